@@ -1,0 +1,6 @@
+# Warnings are private to each target: consumers of meshfit do not inherit them.
+function(meshfit_set_warnings target)
+  if(CMAKE_CXX_COMPILER_ID MATCHES "GNU|Clang")
+    target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wshadow=local)
+  endif()
+endfunction()

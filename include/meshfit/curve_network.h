@@ -1,0 +1,112 @@
+// meshfit: the curve network (thesis §1.2): piecewise-linear polylines whose coincident points are
+// merged into network vertices. A network vertex with more than two incident segments is a
+// feature point.
+#ifndef MESHFIT_CURVE_NETWORK_H
+#define MESHFIT_CURVE_NETWORK_H
+
+#include <meshfit/exceptions.h>
+#include <meshfit/kernel.h>
+
+#include <array>
+#include <cstddef>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace meshfit {
+
+/// The default merge tolerance, relative to the diagonal of the network's bounding box.
+constexpr double default_merge_tolerance = 1e-9;
+
+/// A network of polylines. Points closer than `tolerance()` (the relative merge tolerance times
+/// the bounding-box diagonal) are one network vertex: the first point seen (in file order) is the
+/// vertex's position and later points within the tolerance of it are merged into it. Segments
+/// are unique: a segment given twice (in either direction) is stored once.
+class Curve_network {
+ public:
+  using Polyline = std::vector<Point_3>;
+  using Segment = std::array<std::size_t, 2>;
+
+  /// A maximal chain of segments whose inner vertices have degree 2: it runs between feature
+  /// points or endpoints, or is a closed loop.
+  struct Curve {
+    std::vector<std::size_t> vertices;  ///< consecutive network vertices
+    bool closed = false;                ///< first and last vertex are the same
+  };
+
+  Curve_network() = default;
+  /// Builds the network. `where`, when given, has one location per polyline and is used in error
+  /// messages. \throws Invalid_input for a polyline of fewer than two points, a non-finite
+  /// coordinate, a segment of zero length after merging, or a network whose points all coincide.
+  explicit Curve_network(const std::vector<Polyline>& polylines,
+                         double relative_tolerance = default_merge_tolerance,
+                         const std::vector<Input_location>& where = {});
+
+  std::size_t number_of_vertices() const { return m_points.size(); }
+  std::size_t number_of_segments() const { return m_segments.size(); }
+  const std::vector<Point_3>& points() const { return m_points; }
+  const Point_3& point(std::size_t v) const { return m_points.at(v); }
+  const std::vector<Segment>& segments() const { return m_segments; }
+  /// Indices of the segments incident to vertex `v`.
+  const std::vector<std::size_t>& incident_segments(std::size_t v) const { return m_incident.at(v); }
+  std::size_t degree(std::size_t v) const { return m_incident.at(v).size(); }
+  bool is_feature_point(std::size_t v) const { return degree(v) > 2; }
+  bool is_endpoint(std::size_t v) const { return degree(v) == 1; }
+  std::vector<std::size_t> feature_points() const;
+  std::vector<std::size_t> endpoints() const;
+
+  /// The input polylines as network vertex indices, in input order.
+  const std::vector<std::vector<std::size_t>>& polylines() const { return m_polylines; }
+  /// Input polylines that return to their first vertex.
+  std::size_t number_of_closed_polylines() const;
+  /// Maximal chains between feature points and endpoints (see Curve), in a deterministic order.
+  const std::vector<Curve>& curves() const { return m_curves; }
+  /// Number of independent cycles of the network graph (segments − vertices + components).
+  std::size_t number_of_independent_cycles() const;
+
+  std::size_t number_of_components() const { return m_number_of_components; }
+  /// Component of vertex `v`, numbered from 0 in order of their lowest vertex.
+  std::size_t component(std::size_t v) const { return m_component.at(v); }
+
+  const Bbox_3& bbox() const { return m_bbox; }
+  /// Absolute merge tolerance (relative tolerance × bounding-box diagonal).
+  double tolerance() const { return m_tolerance; }
+  /// Segments given more than once in the input (they are stored once).
+  std::size_t number_of_repeated_segments() const { return m_repeated_segments; }
+
+  /// The network vertex within `tolerance()` of `p`, if any (the nearest one when several are).
+  std::optional<std::size_t> find_vertex(const Point_3& p) const;
+
+ private:
+  std::vector<Point_3> m_points;
+  std::vector<Segment> m_segments;
+  std::vector<std::vector<std::size_t>> m_incident;
+  std::vector<std::vector<std::size_t>> m_polylines;
+  std::vector<Curve> m_curves;
+  std::vector<std::size_t> m_component;
+  std::size_t m_number_of_components = 0;
+  std::size_t m_repeated_segments = 0;
+  Bbox_3 m_bbox;
+  double m_tolerance = 0;
+  // Vertices by grid cell of side `tolerance()`: a point's merge partners lie in the 27 cells
+  // around its own.
+  std::map<std::array<long long, 3>, std::vector<std::size_t>> m_cells;
+  std::array<long long, 3> cell_of(const Point_3& p) const;
+};
+
+/// Reads a network in CGAL's polyline format: one polyline per line, `N x1 y1 z1 … xN yN zN`;
+/// blank lines and lines starting with `#` are ignored; a closed curve repeats its first point.
+/// \throws Invalid_input naming the file and line for any malformed line.
+Curve_network read_curve_network(const std::string& path,
+                                 double relative_tolerance = default_merge_tolerance);
+/// Same, from the content of a file; `name` is used in error messages.
+Curve_network parse_curve_network(const std::string& content, const std::string& name,
+                                  double relative_tolerance = default_merge_tolerance);
+
+/// Writes a network as polylines, one per curve of `network.curves()`.
+void write_curve_network(const std::string& path, const Curve_network& network);
+
+}  // namespace meshfit
+
+#endif  // MESHFIT_CURVE_NETWORK_H

@@ -1,0 +1,70 @@
+// meshfit: typed exceptions. Every error meshfit reports on bad input is an Invalid_input that
+// names where the problem is (file and line, byte offset, or element) and what it is.
+#ifndef MESHFIT_EXCEPTIONS_H
+#define MESHFIT_EXCEPTIONS_H
+
+#include <cstddef>
+#include <stdexcept>
+#include <string>
+
+namespace meshfit {
+
+/// Where in the input a problem was found. Any part may be unknown (empty file, zero line,
+/// `no_offset`); `what()` of the exception shows only the known parts, compiler-style:
+/// `file:line: problem`, `file: byte 1234: problem` or `file: problem`.
+struct Input_location {
+  static constexpr std::size_t no_offset = static_cast<std::size_t>(-1);
+  std::string file;                  ///< file name as given by the caller, may be empty
+  std::size_t line = 0;              ///< 1-based line, 0 when unknown or not a text format
+  std::size_t byte_offset = no_offset;  ///< 0-based byte offset in a binary file
+
+  static Input_location at_line(std::string file, std::size_t line) {
+    Input_location l;
+    l.file = std::move(file);
+    l.line = line;
+    return l;
+  }
+  static Input_location at_byte(std::string file, std::size_t offset) {
+    Input_location l;
+    l.file = std::move(file);
+    l.byte_offset = offset;
+    return l;
+  }
+  /// "file:line", "file: byte N" or "file" (empty when nothing is known).
+  std::string to_string() const;
+};
+
+/// Thrown for every kind of bad input, in every build type. Derives from std::invalid_argument.
+class Invalid_input : public std::invalid_argument {
+ public:
+  Invalid_input(Input_location where, const std::string& problem);
+  explicit Invalid_input(const std::string& problem) : Invalid_input(Input_location{}, problem) {}
+
+  const Input_location& where() const noexcept { return m_where; }
+  const std::string& problem() const noexcept { return m_problem; }
+
+ private:
+  Input_location m_where;
+  std::string m_problem;
+};
+
+/// Thrown when a numerical step (a linear solve, say) fails or produces a non-finite value.
+class Numerical_error : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Thrown when an algorithm cannot complete on valid input (a stage gives up); names the stage.
+class Algorithm_failure : public std::runtime_error {
+ public:
+  Algorithm_failure(std::string stage, const std::string& reason)
+      : std::runtime_error(stage + ": " + reason), m_stage(std::move(stage)) {}
+  const std::string& stage() const noexcept { return m_stage; }
+
+ private:
+  std::string m_stage;
+};
+
+}  // namespace meshfit
+
+#endif  // MESHFIT_EXCEPTIONS_H

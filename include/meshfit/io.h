@@ -1,0 +1,223 @@
+// meshfit: reading and writing triangle meshes with regions and curve edges.
+//
+// Readers are strict: every malformed file gives meshfit::Invalid_input naming the file, the line
+// (text formats) or byte offset (binary formats) and the problem, and no allocation is sized by a
+// count read from the file before the data behind it has been seen. After parsing, the mesh is
+// checked: polygons are triangulated, faces need at least three distinct vertices with indices in
+// range, every edge has at most two faces, the faces around each vertex form a single fan, and
+// faces sharing an edge are consistently oriented. Degenerate (zero-area) faces and isolated
+// vertices are reported, not rejected.
+//
+// Vertex i of the file is vertex i of the result (isolated vertices are kept), so indices in
+// correspondence files and in outputs keep their meaning.
+#ifndef MESHFIT_IO_H
+#define MESHFIT_IO_H
+
+#include <meshfit/exceptions.h>
+#include <meshfit/kernel.h>
+
+#include <CGAL/boost/graph/Euler_operations.h>
+#include <CGAL/boost/graph/helpers.h>
+#include <CGAL/boost/graph/iterator.h>
+#include <CGAL/boost/graph/named_params_helper.h>
+#include <CGAL/Named_function_parameters.h>
+#include <CGAL/Dynamic_property_map.h>
+
+#include <array>
+#include <cstddef>
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+namespace meshfit {
+
+enum class Mesh_format { off, obj, ply, stl };
+
+/// The format named by the file's extension (`.off`, `.obj`, `.ply`, `.stl`, any case).
+/// \throws Invalid_input naming the file for any other extension.
+Mesh_format mesh_format_of(const std::string& path);
+const char* to_string(Mesh_format format);
+
+/// A triangle mesh as files hold it: vertices in file order, triangles as vertex indices, and
+/// optionally a region (patch) per triangle and a set of curve edges.
+struct Mesh_data {
+  std::vector<Point_3> points;
+  std::vector<std::array<std::size_t, 3>> triangles;
+  std::vector<int> face_patch;  ///< empty, or one region index per triangle
+  std::vector<std::array<std::size_t, 2>> curve_edges;
+};
+
+/// What reading a mesh found besides the mesh itself.
+struct Mesh_read_report {
+  std::string file;
+  Mesh_format format = Mesh_format::off;
+  std::size_t polygons_read = 0;          ///< faces as declared in the file
+  std::size_t polygons_triangulated = 0;  ///< of those, faces with more than three sides
+  std::vector<std::size_t> degenerate_faces;   ///< triangles whose corners are collinear (exact test)
+  std::vector<std::size_t> isolated_vertices;  ///< vertices no face uses
+};
+
+/// Reads a mesh file in any supported format (chosen by the extension).
+/// \throws Invalid_input naming the file and line or byte offset for any malformed content.
+Mesh_data read_mesh_data(const std::string& path, Mesh_read_report* report = nullptr);
+/// Reads from a stream; `name` is used in error messages.
+Mesh_data read_mesh_data(std::istream& in, Mesh_format format, const std::string& name,
+                         Mesh_read_report* report = nullptr);
+/// Parses an in-memory file; `name` is used in error messages.
+Mesh_data parse_mesh_data(const std::string& content, Mesh_format format, const std::string& name,
+                          Mesh_read_report* report = nullptr);
+
+enum class Ply_encoding { ascii, binary_little_endian };
+
+struct Write_options {
+  Ply_encoding ply_encoding = Ply_encoding::ascii;
+  /// Paths the output must not be (the inputs): writing refuses with Invalid_input.
+  std::vector<std::string> protected_paths;
+};
+
+/// Writes `mesh` in the format of the path's extension. `.obj` groups faces by region
+/// (`g region_<k>`) and writes curve edges as `l`; `.ply` writes a face property `patch_id` and an
+/// `edge` element; `.off` and `.stl` write geometry only. The file is written next to its
+/// destination under a temporary name and renamed into place, so a failure leaves no partial file.
+/// \throws Invalid_input when the path is protected, has an unknown extension, or the mesh refers
+///         to vertices that do not exist; std::runtime_error when the file cannot be written.
+void write_mesh_data(const std::string& path, const Mesh_data& mesh,
+                     const Write_options& options = Write_options());
+void write_mesh_data(std::ostream& out, Mesh_format format, const Mesh_data& mesh,
+                     Ply_encoding ply_encoding = Ply_encoding::ascii);
+
+/// \throws Invalid_input when `output` names the same file as one of `inputs` (also through
+///         links or different spellings of the path).
+void check_output_path(const std::string& output, const std::vector<std::string>& inputs);
+
+// ---- TriangleMesh front end ---------------------------------------------------------------------
+
+/// Replaces the content of `tm` by `mesh` and returns the vertex created for each point.
+/// Named parameters: `vertex_point_map`; `face_patch_map` (writable, receives `face_patch` when
+/// present); `edge_is_constrained_map` (writable, receives true on curve edges, false elsewhere).
+/// \throws Invalid_input when `mesh` is not a valid oriented 2-manifold (use read_mesh_data, which
+///         checks this with line numbers, to read files).
+template <typename TriangleMesh,
+          typename NamedParameters = CGAL::parameters::Default_named_parameters>
+std::vector<typename boost::graph_traits<TriangleMesh>::vertex_descriptor>
+build_triangle_mesh(const Mesh_data& mesh, TriangleMesh& tm,
+                    const NamedParameters& np = CGAL::parameters::default_values()) {
+  using CGAL::parameters::choose_parameter;
+  using CGAL::parameters::get_parameter;
+  using GT = boost::graph_traits<TriangleMesh>;
+  using vertex_descriptor = typename GT::vertex_descriptor;
+  using face_descriptor = typename GT::face_descriptor;
+
+  auto vpm = choose_parameter(get_parameter(np, CGAL::internal_np::vertex_point),
+                              get_property_map(CGAL::vertex_point, tm));
+
+  CGAL::clear(tm);
+  std::vector<vertex_descriptor> vertex_of(mesh.points.size());
+  for (std::size_t i = 0; i < mesh.points.size(); ++i) {
+    vertex_of[i] = add_vertex(tm);
+    put(vpm, vertex_of[i], mesh.points[i]);
+  }
+  std::vector<face_descriptor> face_of(mesh.triangles.size());
+  for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
+    const auto& t = mesh.triangles[f];
+    if (t[0] >= vertex_of.size() || t[1] >= vertex_of.size() || t[2] >= vertex_of.size())
+      throw Invalid_input("triangle " + std::to_string(f) + " refers to a missing vertex");
+    const std::array<vertex_descriptor, 3> corners{vertex_of[t[0]], vertex_of[t[1]],
+                                                   vertex_of[t[2]]};
+    face_of[f] = CGAL::Euler::add_face(corners, tm);
+    if (face_of[f] == GT::null_face())
+      throw Invalid_input("triangle " + std::to_string(f) +
+                          " cannot be added: the faces do not form an oriented 2-manifold");
+  }
+
+  auto fpm = get_parameter(np, CGAL::internal_np::face_patch);
+  if constexpr (!std::is_same_v<decltype(fpm), CGAL::internal_np::Param_not_found>) {
+    for (std::size_t f = 0; f < face_of.size(); ++f)
+      put(fpm, face_of[f], mesh.face_patch.empty() ? 0 : mesh.face_patch[f]);
+  }
+  auto ecm = get_parameter(np, CGAL::internal_np::edge_is_constrained);
+  if constexpr (!std::is_same_v<decltype(ecm), CGAL::internal_np::Param_not_found>) {
+    for (auto e : edges(tm)) put(ecm, e, false);
+    for (const auto& ce : mesh.curve_edges) {
+      if (ce[0] >= vertex_of.size() || ce[1] >= vertex_of.size())
+        throw Invalid_input("a curve edge refers to a missing vertex");
+      const auto h = halfedge(vertex_of[ce[0]], vertex_of[ce[1]], tm);
+      if (!h.second)
+        throw Invalid_input("curve edge (" + std::to_string(ce[0]) + ", " +
+                            std::to_string(ce[1]) + ") is not an edge of the mesh");
+      put(ecm, edge(h.first, tm), true);
+    }
+  }
+  return vertex_of;
+}
+
+/// Reads a mesh file into `tm` (see read_mesh_data and build_triangle_mesh for what is checked and
+/// which named parameters receive regions and curve edges).
+template <typename TriangleMesh,
+          typename NamedParameters = CGAL::parameters::Default_named_parameters>
+Mesh_read_report read_triangle_mesh(const std::string& path, TriangleMesh& tm,
+                                    const NamedParameters& np = CGAL::parameters::default_values()) {
+  Mesh_read_report report;
+  const Mesh_data data = read_mesh_data(path, &report);
+  build_triangle_mesh(data, tm, np);
+  return report;
+}
+
+/// Flattens `tm` into Mesh_data. Vertices are numbered in the order of `vertices(tm)` (for
+/// CGAL::Surface_mesh without removed elements: their index). Named parameters:
+/// `vertex_point_map`; `face_patch_map` (read into `face_patch`); `edge_is_constrained_map` (edges
+/// where it is true become curve edges).
+template <typename TriangleMesh,
+          typename NamedParameters = CGAL::parameters::Default_named_parameters>
+Mesh_data to_mesh_data(const TriangleMesh& tm,
+                       const NamedParameters& np = CGAL::parameters::default_values()) {
+  using CGAL::parameters::choose_parameter;
+  using CGAL::parameters::get_parameter;
+
+  auto vpm = choose_parameter(get_parameter(np, CGAL::internal_np::vertex_point),
+                              get_const_property_map(CGAL::vertex_point, tm));
+  auto index = get(CGAL::dynamic_vertex_property_t<std::size_t>(), tm);
+
+  Mesh_data out;
+  out.points.reserve(num_vertices(tm));
+  for (auto v : vertices(tm)) {
+    put(index, v, out.points.size());
+    const auto& p = get(vpm, v);
+    out.points.emplace_back(p.x(), p.y(), p.z());
+  }
+  auto fpm = get_parameter(np, CGAL::internal_np::face_patch);
+  constexpr bool has_patches =
+      !std::is_same_v<decltype(fpm), CGAL::internal_np::Param_not_found>;
+  out.triangles.reserve(num_faces(tm));
+  for (auto f : faces(tm)) {
+    std::array<std::size_t, 3> t{};
+    std::size_t k = 0;
+    for (auto v : CGAL::vertices_around_face(halfedge(f, tm), tm)) {
+      if (k == 3) throw Invalid_input("face with more than three vertices: not a triangle mesh");
+      t[k++] = get(index, v);
+    }
+    if (k != 3) throw Invalid_input("face with fewer than three vertices");
+    out.triangles.push_back(t);
+    if constexpr (has_patches) out.face_patch.push_back(static_cast<int>(get(fpm, f)));
+  }
+  auto ecm = get_parameter(np, CGAL::internal_np::edge_is_constrained);
+  if constexpr (!std::is_same_v<decltype(ecm), CGAL::internal_np::Param_not_found>) {
+    for (auto e : edges(tm))
+      if (get(ecm, e))
+        out.curve_edges.push_back({get(index, source(e, tm)), get(index, target(e, tm))});
+  }
+  return out;
+}
+
+/// Writes `tm` (see to_mesh_data for the named parameters and write_mesh_data for the formats).
+template <typename TriangleMesh,
+          typename NamedParameters = CGAL::parameters::Default_named_parameters>
+void write_triangle_mesh(const std::string& path, const TriangleMesh& tm,
+                         const NamedParameters& np = CGAL::parameters::default_values(),
+                         const Write_options& options = Write_options()) {
+  write_mesh_data(path, to_mesh_data(tm, np), options);
+}
+
+}  // namespace meshfit
+
+#endif  // MESHFIT_IO_H

@@ -1,0 +1,17 @@
+// meshfit: the geometric kernel. Predicates are exact, constructions are not (Epick): every
+// geometric decision in meshfit is an exact predicate on existing points.
+#ifndef MESHFIT_KERNEL_H
+#define MESHFIT_KERNEL_H
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+
+namespace meshfit {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point_3 = Kernel::Point_3;
+using Vector_3 = Kernel::Vector_3;
+using Bbox_3 = CGAL::Bbox_3;
+
+}  // namespace meshfit
+
+#endif  // MESHFIT_KERNEL_H

@@ -1,0 +1,69 @@
+// meshfit: named parameters of meshfit's own, chaining with CGAL's.
+//
+// Every meshfit parameter function comes in two forms:
+//   meshfit::parameters::merge_tolerance(1e-8)                      // starts a pack
+//   meshfit::parameters::merge_tolerance(1e-8, CGAL::parameters::number_of_iterations(5))
+// and the pack it returns is a CGAL::Named_function_parameters, so CGAL's parameters chain after
+// it (`.number_of_iterations(5)`), and CGAL::parameters::get_parameter(np,
+// meshfit::internal_np::merge_tolerance) reads it back.
+//
+// The tags, their types and defaults:
+//   | tag               | type                                    | default                        |
+//   |-------------------|-----------------------------------------|--------------------------------|
+//   | merge_tolerance   | double, relative to the bbox diagonal   | 1e-9                           |
+//   | progress          | callable bool(const Progress_step&)     | none (never cancels)           |
+//   | input_file_name   | std::string, used in error messages     | the path read, or "<stream>"   |
+#ifndef MESHFIT_PARAMETERS_H
+#define MESHFIT_PARAMETERS_H
+
+#include <CGAL/Named_function_parameters.h>
+
+#include <cstddef>
+#include <functional>
+#include <string>
+
+namespace meshfit {
+
+/// One step of a stage, passed to the `progress` callback. Returning `false` from the callback
+/// cancels the stage cleanly (it throws meshfit::Algorithm_failure naming the stage).
+struct Progress_step {
+  std::string stage;      ///< "read", "deform", "partition", "smooth", …
+  std::string step;       ///< what is being done
+  std::size_t index = 0;  ///< 0-based step number within the stage
+  std::size_t total = 0;  ///< number of steps in the stage, 0 when unknown
+};
+using Progress_callback = std::function<bool(const Progress_step&)>;
+
+namespace internal_np {
+enum merge_tolerance_t { merge_tolerance };
+enum progress_t { progress };
+enum input_file_name_t { input_file_name };
+}  // namespace internal_np
+
+namespace parameters {
+
+/// Generates `name(value)` and `name(value, base_pack)`.
+#define MESHFIT_NAMED_PARAMETER(NAME)                                                          \
+  template <typename T>                                                                        \
+  CGAL::Named_function_parameters<T, meshfit::internal_np::NAME##_t> NAME(const T& value) {    \
+    return CGAL::Named_function_parameters<T, meshfit::internal_np::NAME##_t>(value);          \
+  }                                                                                            \
+  template <typename T, typename BT, typename BTag, typename BBase>                            \
+  CGAL::Named_function_parameters<T, meshfit::internal_np::NAME##_t,                           \
+                                  CGAL::Named_function_parameters<BT, BTag, BBase>>            \
+  NAME(const T& value, const CGAL::Named_function_parameters<BT, BTag, BBase>& base) {         \
+    return CGAL::Named_function_parameters<T, meshfit::internal_np::NAME##_t,                  \
+                                           CGAL::Named_function_parameters<BT, BTag, BBase>>(  \
+        value, base);                                                                          \
+  }
+
+MESHFIT_NAMED_PARAMETER(merge_tolerance)
+MESHFIT_NAMED_PARAMETER(progress)
+MESHFIT_NAMED_PARAMETER(input_file_name)
+
+#undef MESHFIT_NAMED_PARAMETER
+
+}  // namespace parameters
+}  // namespace meshfit
+
+#endif  // MESHFIT_PARAMETERS_H

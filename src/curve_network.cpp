@@ -1,0 +1,242 @@
+#include <meshfit/curve_network.h>
+
+#include "text_parser.h"
+#include "write_file.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <ostream>
+
+namespace meshfit {
+
+namespace {
+Input_location location_of(const std::vector<Input_location>& where, std::size_t k) {
+  return k < where.size() ? where[k] : Input_location{};
+}
+std::string polyline_name(std::size_t k) { return "polyline " + std::to_string(k); }
+}  // namespace
+
+std::array<long long, 3> Curve_network::cell_of(const Point_3& p) const {
+  return {static_cast<long long>(std::floor((p.x() - m_bbox.xmin()) / m_tolerance)),
+          static_cast<long long>(std::floor((p.y() - m_bbox.ymin()) / m_tolerance)),
+          static_cast<long long>(std::floor((p.z() - m_bbox.zmin()) / m_tolerance))};
+}
+
+std::optional<std::size_t> Curve_network::find_vertex(const Point_3& p) const {
+  if (m_points.empty() || !std::isfinite(p.x()) || !std::isfinite(p.y()) || !std::isfinite(p.z()))
+    return std::nullopt;
+  // A point far outside the box cannot be a vertex (and its cell index could overflow).
+  const double t = m_tolerance;
+  if (p.x() < m_bbox.xmin() - t || p.x() > m_bbox.xmax() + t || p.y() < m_bbox.ymin() - t ||
+      p.y() > m_bbox.ymax() + t || p.z() < m_bbox.zmin() - t || p.z() > m_bbox.zmax() + t)
+    return std::nullopt;
+  const auto c = cell_of(p);
+  std::optional<std::size_t> best;
+  double best_d2 = t * t;
+  for (long long dx = -1; dx <= 1; ++dx)
+    for (long long dy = -1; dy <= 1; ++dy)
+      for (long long dz = -1; dz <= 1; ++dz) {
+        const auto it = m_cells.find({c[0] + dx, c[1] + dy, c[2] + dz});
+        if (it == m_cells.end()) continue;
+        for (std::size_t v : it->second) {
+          const double d2 = CGAL::squared_distance(p, m_points[v]);
+          if (d2 < best_d2 || (d2 == best_d2 && (!best || v < *best))) {
+            best_d2 = d2;
+            best = v;
+          }
+        }
+      }
+  return best;
+}
+
+Curve_network::Curve_network(const std::vector<Polyline>& polylines, double relative_tolerance,
+                             const std::vector<Input_location>& where) {
+  if (!(relative_tolerance >= 1e-15 && relative_tolerance <= 1e-2))
+    throw Invalid_input("the merge tolerance must be between 1e-15 and 1e-2 of the bounding-box "
+                        "diagonal, not " + std::to_string(relative_tolerance));
+  bool any = false;
+  for (std::size_t k = 0; k < polylines.size(); ++k) {
+    if (polylines[k].size() < 2)
+      throw Invalid_input(location_of(where, k),
+                          polyline_name(k) + " has " + std::to_string(polylines[k].size()) +
+                              " point(s); a polyline needs at least 2");
+    for (const Point_3& p : polylines[k]) {
+      if (!std::isfinite(p.x()) || !std::isfinite(p.y()) || !std::isfinite(p.z()))
+        throw Invalid_input(location_of(where, k), polyline_name(k) + " has a non-finite coordinate");
+      m_bbox += p.bbox();
+      any = true;
+    }
+  }
+  if (!any) throw Invalid_input("the curve network is empty");
+  const double diagonal = std::sqrt(CGAL::square(m_bbox.xmax() - m_bbox.xmin()) +
+                                    CGAL::square(m_bbox.ymax() - m_bbox.ymin()) +
+                                    CGAL::square(m_bbox.zmax() - m_bbox.zmin()));
+  if (!(diagonal > 0) || !std::isfinite(diagonal))
+    throw Invalid_input("the curve network's points all coincide (or its extent overflows)");
+  m_tolerance = relative_tolerance * diagonal;
+
+  // Merge points: each point joins the nearest existing vertex within the tolerance, else
+  // becomes a vertex. Processing in input order makes the result deterministic.
+  for (std::size_t k = 0; k < polylines.size(); ++k) {
+    std::vector<std::size_t> ids;
+    ids.reserve(polylines[k].size());
+    for (const Point_3& p : polylines[k]) {
+      std::optional<std::size_t> v = find_vertex(p);
+      if (!v) {
+        v = m_points.size();
+        m_points.push_back(p);
+        m_incident.emplace_back();
+        m_cells[cell_of(p)].push_back(*v);
+      }
+      ids.push_back(*v);
+    }
+    m_polylines.push_back(std::move(ids));
+  }
+
+  // Unique segments.
+  std::map<std::pair<std::size_t, std::size_t>, std::size_t> segment_index;
+  for (std::size_t k = 0; k < m_polylines.size(); ++k) {
+    const auto& ids = m_polylines[k];
+    for (std::size_t i = 0; i + 1 < ids.size(); ++i) {
+      const std::size_t a = ids[i], b = ids[i + 1];
+      if (a == b)
+        throw Invalid_input(location_of(where, k),
+                            polyline_name(k) + ": points " + std::to_string(i + 1) + " and " +
+                                std::to_string(i + 2) + " coincide (a segment of zero length)");
+      const auto key = std::minmax(a, b);
+      if (!segment_index.emplace(key, m_segments.size()).second) {
+        ++m_repeated_segments;
+        continue;
+      }
+      m_incident[a].push_back(m_segments.size());
+      m_incident[b].push_back(m_segments.size());
+      m_segments.push_back({a, b});
+    }
+  }
+
+  // Components (union-find over segments), numbered by their lowest vertex.
+  std::vector<std::size_t> parent(m_points.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  auto root = [&](std::size_t i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  for (const Segment& s : m_segments) {
+    const std::size_t a = root(s[0]), b = root(s[1]);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  }
+  m_component.assign(m_points.size(), 0);
+  std::vector<std::size_t> number(m_points.size(), SIZE_MAX);
+  for (std::size_t v = 0; v < m_points.size(); ++v) {
+    const std::size_t r = root(v);
+    if (number[r] == SIZE_MAX) number[r] = m_number_of_components++;
+    m_component[v] = number[r];
+  }
+
+  // Curves: walk from every vertex of degree other than 2 along degree-2 vertices; what is left
+  // unvisited are loops made only of degree-2 vertices.
+  std::vector<bool> used(m_segments.size(), false);
+  auto other = [&](std::size_t s, std::size_t v) {
+    return m_segments[s][0] == v ? m_segments[s][1] : m_segments[s][0];
+  };
+  auto walk = [&](std::size_t start, std::size_t s) {
+    Curve c;
+    c.vertices.push_back(start);
+    std::size_t v = start;
+    while (true) {
+      used[s] = true;
+      v = other(s, v);
+      c.vertices.push_back(v);
+      if (degree(v) != 2 || v == start) break;
+      const auto& inc = m_incident[v];
+      s = used[inc[0]] ? inc[1] : inc[0];
+      if (used[s]) break;
+    }
+    c.closed = c.vertices.front() == c.vertices.back();
+    m_curves.push_back(std::move(c));
+  };
+  for (std::size_t v = 0; v < m_points.size(); ++v)
+    if (degree(v) != 2)
+      for (std::size_t s : m_incident[v])
+        if (!used[s]) walk(v, s);
+  for (std::size_t v = 0; v < m_points.size(); ++v)
+    for (std::size_t s : m_incident[v])
+      if (!used[s]) walk(v, s);
+}
+
+std::vector<std::size_t> Curve_network::feature_points() const {
+  std::vector<std::size_t> out;
+  for (std::size_t v = 0; v < m_points.size(); ++v)
+    if (is_feature_point(v)) out.push_back(v);
+  return out;
+}
+
+std::vector<std::size_t> Curve_network::endpoints() const {
+  std::vector<std::size_t> out;
+  for (std::size_t v = 0; v < m_points.size(); ++v)
+    if (is_endpoint(v)) out.push_back(v);
+  return out;
+}
+
+std::size_t Curve_network::number_of_closed_polylines() const {
+  return static_cast<std::size_t>(std::count_if(
+      m_polylines.begin(), m_polylines.end(),
+      [](const std::vector<std::size_t>& p) { return p.size() > 2 && p.front() == p.back(); }));
+}
+
+std::size_t Curve_network::number_of_independent_cycles() const {
+  return m_segments.size() + m_number_of_components - m_points.size();
+}
+
+Curve_network parse_curve_network(const std::string& content, const std::string& name,
+                                  double relative_tolerance) {
+  internal::Line_reader in(content, name);
+  std::vector<Curve_network::Polyline> polylines;
+  std::vector<Input_location> where;
+  while (in.next()) {
+    const auto& t = in.tokens();
+    const std::uint64_t n = in.to_unsigned(t[0], "point count");
+    if (n < 2) in.fail("a polyline needs at least 2 points, this one declares " + std::to_string(n));
+    if ((t.size() - 1) % 3 != 0 || (t.size() - 1) / 3 != n)
+      in.fail("the polyline declares " + std::to_string(n) + " points (" + std::to_string(3 * n) +
+              " coordinates) but the line has " + std::to_string(t.size() - 1) + " coordinates");
+    Curve_network::Polyline pl;
+    pl.reserve(n);
+    for (std::size_t i = 0; i < n; ++i)
+      pl.emplace_back(in.to_double(t[1 + 3 * i], "x coordinate"),
+                      in.to_double(t[2 + 3 * i], "y coordinate"),
+                      in.to_double(t[3 + 3 * i], "z coordinate"));
+    polylines.push_back(std::move(pl));
+    where.push_back(in.here());
+  }
+  if (polylines.empty())
+    throw Invalid_input(Input_location{name, 0, Input_location::no_offset},
+                        "the file has no polyline");
+  try {
+    return Curve_network(polylines, relative_tolerance, where);
+  } catch (const Invalid_input& e) {
+    if (!e.where().file.empty()) throw;
+    throw Invalid_input(Input_location{name, 0, Input_location::no_offset}, e.problem());
+  }
+}
+
+Curve_network read_curve_network(const std::string& path, double relative_tolerance) {
+  return parse_curve_network(internal::read_file(path), path, relative_tolerance);
+}
+
+void write_curve_network(const std::string& path, const Curve_network& network) {
+  internal::write_file_atomically(path, [&](std::ostream& os) {
+    os.precision(17);
+    for (const auto& c : network.curves()) {
+      os << c.vertices.size();
+      for (std::size_t v : c.vertices) {
+        const Point_3& p = network.point(v);
+        os << ' ' << p.x() << ' ' << p.y() << ' ' << p.z();
+      }
+      os << '\n';
+    }
+  });
+}
+
+}  // namespace meshfit

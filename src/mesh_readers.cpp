@@ -1,0 +1,292 @@
+// Strict parsers for OFF/COFF, OBJ, PLY (ASCII and binary) and STL (ASCII and binary).
+// They never size an allocation from a count in the file: elements are appended as they are read,
+// and a count larger than the data is reported when the data runs out.
+#include "polygon_soup.h"
+#include "text_parser.h"
+
+#include <algorithm>
+#include <cstring>
+#include <map>
+#include <tuple>
+
+namespace meshfit {
+namespace internal {
+
+namespace {
+
+// ---- OFF ----------------------------------------------------------------------------------------
+
+Polygon_soup parse_off_impl(std::string_view text, const std::string& name) {
+  Polygon_soup soup;
+  soup.file = name;
+  Line_reader in(text, name);
+  if (!in.next()) in.fail("empty file: expected an OFF header");
+
+  std::string_view head = in.tokens()[0];
+  if (head.size() < 3 || head.substr(head.size() - 3) != "OFF")
+    in.fail("expected an OFF header (OFF, COFF, NOFF, STOFF, …), found " + quote(head));
+  std::string_view prefix = head.substr(0, head.size() - 3);
+  if (prefix.substr(0, 2) == "ST") prefix.remove_prefix(2);
+  if (!prefix.empty() && prefix.front() == 'C') prefix.remove_prefix(1);
+  if (!prefix.empty() && prefix.front() == 'N') prefix.remove_prefix(1);
+  if (!prefix.empty() && (prefix.front() == '4' || prefix.front() == 'n'))
+    in.fail("OFF files of dimension other than 3 (" + quote(head) + ") are not supported");
+  if (!prefix.empty()) in.fail("unknown OFF header " + quote(head));
+
+  std::vector<std::string_view> counts(in.tokens().begin() + 1, in.tokens().end());
+  if (!counts.empty() && counts[0] == "BINARY") in.fail("binary OFF is not supported");
+  if (counts.empty()) {
+    if (!in.next()) in.fail("file ends after the header: expected the vertex and face counts");
+    counts = in.tokens();
+  }
+  if (counts.size() < 2 || counts.size() > 3)
+    in.fail("expected 'vertices faces [edges]' counts, found " + std::to_string(counts.size()) +
+            " values");
+  const std::uint64_t nv = in.to_unsigned(counts[0], "vertex count");
+  const std::uint64_t nf = in.to_unsigned(counts[1], "face count");
+  if (counts.size() == 3) in.to_unsigned(counts[2], "edge count");
+  const std::size_t count_line = in.line_number();
+
+  for (std::uint64_t i = 0; i < nv; ++i) {
+    if (!in.next())
+      throw Invalid_input(Input_location::at_line(name, count_line),
+                          "the header declares " + std::to_string(nv) +
+                              " vertices but the file ends after " + std::to_string(i));
+    const auto& t = in.tokens();
+    if (t.size() < 3)
+      in.fail("vertex " + std::to_string(i) + " has " + std::to_string(t.size()) +
+              " values; expected x y z");
+    soup.points.emplace_back(in.to_double(t[0], "x coordinate"),
+                             in.to_double(t[1], "y coordinate"),
+                             in.to_double(t[2], "z coordinate"));
+    for (std::size_t k = 3; k < t.size(); ++k) in.to_double(t[k], "vertex attribute");
+  }
+  for (std::uint64_t f = 0; f < nf; ++f) {
+    if (!in.next())
+      throw Invalid_input(Input_location::at_line(name, count_line),
+                          "the header declares " + std::to_string(nf) +
+                              " faces but the file ends after " + std::to_string(f));
+    const auto& t = in.tokens();
+    const std::uint64_t n = in.to_unsigned(t[0], "face size");
+    if (n + 1 > t.size())
+      in.fail("face " + std::to_string(f) + " declares " + std::to_string(n) +
+              " vertices but the line has " + std::to_string(t.size() - 1) + " indices");
+    if (t.size() - 1 - n > 4)
+      in.fail("face " + std::to_string(f) + " declares " + std::to_string(n) +
+              " vertices but the line has " + std::to_string(t.size() - 1) + " values");
+    for (std::size_t k = 1; k <= n; ++k) soup.corners.push_back(in.to_unsigned(t[k], "vertex index"));
+    for (std::size_t k = n + 1; k < t.size(); ++k) in.to_double(t[k], "face colour");
+    soup.end_polygon(in.line_number());
+  }
+  if (in.next())
+    in.fail("unexpected data after the " + std::to_string(nf) + " declared faces");
+  return soup;
+}
+
+// ---- OBJ ----------------------------------------------------------------------------------------
+
+bool obj_statement_ignored(std::string_view k) {
+  static const char* const ignored[] = {
+      "vt", "vn", "vp", "o", "s", "mg", "usemtl", "mtllib", "usemap", "maplib", "p",
+      "cstype", "deg", "bmat", "step", "curv", "curv2", "surf", "parm", "trim", "hole",
+      "scrv", "sp", "end", "con", "lod", "bevel", "c_interp", "d_interp", "shadow_obj",
+      "trace_obj", "ctech", "stech", "call", "csh"};
+  for (const char* s : ignored)
+    if (k == s) return true;
+  return false;
+}
+
+Polygon_soup parse_obj_impl(std::string_view text, const std::string& name) {
+  Polygon_soup soup;
+  soup.file = name;
+  Line_reader in(text, name);
+  // Positive indices may refer to vertices defined later; they are range-checked by the mesh
+  // check once all vertices are known, with the line of the face that used them.
+  bool has_regions = false;
+  int region = -1;
+
+  auto resolve = [&](std::string_view token, const char* what) -> std::size_t {
+    const std::string_view index = token.substr(0, token.find('/'));
+    const std::int64_t i = in.to_signed(index, what);
+    if (i == 0) in.fail(std::string(what) + " 0: OBJ indices start at 1");
+    if (i < 0) {
+      const std::uint64_t back = static_cast<std::uint64_t>(-(i + 1)) + 1;
+      if (back > soup.points.size())
+        in.fail(std::string(what) + " " + quote(token) + " refers before the first vertex (" +
+                std::to_string(soup.points.size()) + " vertices so far)");
+      return soup.points.size() - back;
+    }
+    return static_cast<std::size_t>(i - 1);
+  };
+
+  while (in.next()) {
+    const auto& t = in.tokens();
+    const std::string_view key = t[0];
+    if (key == "v") {
+      if (t.size() < 4) in.fail("vertex has " + std::to_string(t.size() - 1) + " values; expected x y z");
+      if (t.size() > 7) in.fail("vertex has " + std::to_string(t.size() - 1) + " values; expected at most 6");
+      soup.points.emplace_back(in.to_double(t[1], "x coordinate"),
+                               in.to_double(t[2], "y coordinate"),
+                               in.to_double(t[3], "z coordinate"));
+      for (std::size_t k = 4; k < t.size(); ++k) in.to_double(t[k], "vertex attribute");
+    } else if (key == "f") {
+      for (std::size_t k = 1; k < t.size(); ++k) soup.corners.push_back(resolve(t[k], "vertex index"));
+      soup.end_polygon(in.line_number());
+      soup.polygon_patch.push_back(region);
+    } else if (key == "l") {
+      if (t.size() < 3) in.fail("a line element needs at least two vertices");
+      std::size_t prev = resolve(t[1], "vertex index");
+      for (std::size_t k = 2; k < t.size(); ++k) {
+        const std::size_t cur = resolve(t[k], "vertex index");
+        soup.edges.push_back({prev, cur});
+        soup.edge_where.push_back(in.line_number());
+        prev = cur;
+      }
+    } else if (key == "g") {
+      region = -1;
+      if (t.size() == 2 && t[1].substr(0, 7) == "region_") {
+        std::uint64_t k = 0;
+        if (parse_unsigned(t[1].substr(7), k) == Number_status::ok && k <= INT32_MAX) {
+          region = static_cast<int>(k);
+          has_regions = true;
+        }
+      }
+    } else if (!obj_statement_ignored(key)) {
+      in.fail("unknown OBJ statement " + quote(key));
+    }
+  }
+  if (!has_regions) soup.polygon_patch.clear();
+  return soup;
+}
+
+// ---- STL ----------------------------------------------------------------------------------------
+
+struct Point_less {
+  bool operator()(const Point_3& a, const Point_3& b) const {
+    return std::make_tuple(a.x(), a.y(), a.z()) < std::make_tuple(b.x(), b.y(), b.z());
+  }
+};
+
+// STL stores every triangle with its own corners: equal coordinates are one vertex, numbered in
+// order of first appearance.
+struct Stl_welder {
+  Polygon_soup& soup;
+  std::map<Point_3, std::size_t, Point_less> index;
+  void add(const Point_3& p) {
+    const auto it = index.emplace(p, soup.points.size());
+    if (it.second) soup.points.push_back(p);
+    soup.corners.push_back(it.first->second);
+  }
+};
+
+template <typename T>
+T load_le(const char* p) {
+  // Binary formats here are little-endian, as is every platform meshfit is built on.
+  T v;
+  std::memcpy(&v, p, sizeof(T));
+  return v;
+}
+
+Polygon_soup parse_stl_binary(std::string_view data, const std::string& name) {
+  Polygon_soup soup;
+  soup.file = name;
+  soup.binary = true;
+  Stl_welder weld{soup, {}};
+  const std::size_t n = load_le<std::uint32_t>(data.data() + 80);
+  for (std::size_t f = 0; f < n; ++f) {
+    const std::size_t at = 84 + 50 * f;
+    for (int c = 0; c < 3; ++c) {
+      double xyz[3];
+      for (int k = 0; k < 3; ++k) {
+        const std::size_t off = at + 12 + 12 * c + 4 * k;
+        const float v = load_le<float>(data.data() + off);
+        if (!std::isfinite(v))
+          throw Invalid_input(Input_location::at_byte(name, off),
+                              "triangle " + std::to_string(f) + " has a non-finite coordinate");
+        xyz[k] = v;
+      }
+      weld.add(Point_3(xyz[0], xyz[1], xyz[2]));
+    }
+    soup.end_polygon(at);
+  }
+  return soup;
+}
+
+Polygon_soup parse_stl_ascii(std::string_view text, const std::string& name) {
+  Polygon_soup soup;
+  soup.file = name;
+  Stl_welder weld{soup, {}};
+  Line_reader in(text, name, '\0');
+  auto expect = [&](const char* what) {
+    if (!in.next()) in.fail(std::string("file ends where '") + what + "' was expected");
+    if (in.tokens()[0] != what)
+      in.fail(std::string("expected '") + what + "', found " + quote(in.tokens()[0]));
+  };
+  if (!in.next() || in.tokens()[0] != "solid") in.fail("expected 'solid' to start an ASCII STL file");
+  while (true) {
+    if (!in.next()) in.fail("file ends inside a solid: expected 'facet' or 'endsolid'");
+    const std::string_view key = in.tokens()[0];
+    if (key == "endsolid") {
+      if (!in.next()) break;
+      if (in.tokens()[0] != "solid")
+        in.fail("expected 'solid' or the end of the file, found " + quote(in.tokens()[0]));
+      continue;
+    }
+    if (key != "facet") in.fail("expected 'facet' or 'endsolid', found " + quote(key));
+    const std::size_t facet_line = in.line_number();
+    const auto& t = in.tokens();
+    if (t.size() != 5 || t[1] != "normal") in.fail("expected 'facet normal nx ny nz'");
+    for (int k = 2; k < 5; ++k) in.to_double(t[k], "normal component");
+    expect("outer");
+    if (in.tokens().size() != 2 || in.tokens()[1] != "loop") in.fail("expected 'outer loop'");
+    std::size_t corners = 0;
+    while (true) {
+      if (!in.next()) in.fail("file ends inside a facet: expected 'vertex' or 'endloop'");
+      const auto& v = in.tokens();
+      if (v[0] == "endloop") break;
+      if (v[0] != "vertex") in.fail("expected 'vertex x y z' or 'endloop', found " + quote(v[0]));
+      if (v.size() != 4) in.fail("expected 'vertex x y z'");
+      weld.add(Point_3(in.to_double(v[1], "x coordinate"), in.to_double(v[2], "y coordinate"),
+                       in.to_double(v[3], "z coordinate")));
+      ++corners;
+    }
+    if (in.tokens().size() != 1) in.fail("unexpected values after 'endloop'");
+    expect("endfacet");
+    (void)corners;  // fewer than three corners is reported by the mesh check, with this line
+    soup.end_polygon(facet_line);
+  }
+  return soup;
+}
+
+Polygon_soup parse_stl_impl(std::string_view data, const std::string& name) {
+  if (data.size() >= 84) {
+    const std::uint64_t n = load_le<std::uint32_t>(data.data() + 80);
+    if (84 + 50 * n == data.size()) return parse_stl_binary(data, name);
+  }
+  Line_reader probe(data, name, '\0');
+  if (probe.next() && probe.tokens()[0] == "solid") return parse_stl_ascii(data, name);
+  if (data.size() < 84)
+    throw Invalid_input(Input_location::at_byte(name, 0),
+                        "not an STL file: too short for binary STL (" + std::to_string(data.size()) +
+                            " bytes) and no 'solid' keyword");
+  const std::uint64_t n = load_le<std::uint32_t>(data.data() + 80);
+  throw Invalid_input(Input_location::at_byte(name, 80),
+                      "binary STL declares " + std::to_string(n) + " triangles, which need " +
+                          std::to_string(84 + 50 * n) + " bytes, but the file has " +
+                          std::to_string(data.size()) + " bytes");
+}
+
+}  // namespace
+
+Polygon_soup parse_off(std::string_view text, const std::string& name) {
+  return parse_off_impl(text, name);
+}
+Polygon_soup parse_obj(std::string_view text, const std::string& name) {
+  return parse_obj_impl(text, name);
+}
+Polygon_soup parse_stl(std::string_view text, const std::string& name) {
+  return parse_stl_impl(text, name);
+}
+
+}  // namespace internal
+}  // namespace meshfit

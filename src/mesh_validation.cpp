@@ -1,0 +1,213 @@
+// Checks a polygon soup for what meshfit needs of a template (an oriented 2-manifold, possibly
+// with boundary) and triangulates polygons. Every error names the face's line or byte offset.
+#include "polygon_soup.h"
+
+#include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
+
+#include <algorithm>
+#include <numeric>
+
+namespace meshfit {
+namespace internal {
+
+namespace {
+
+std::string where_text(const Polygon_soup& soup, std::size_t where) {
+  return soup.binary ? "byte " + std::to_string(where) : "line " + std::to_string(where);
+}
+
+// Triangulates a polygon of k > 3 corners, keeping its orientation. CGAL's hole filling chooses
+// the triangulation minimising the worst dihedral angle and then the area, which handles
+// non-convex and non-planar polygons where a fan would fold; a fan is the fallback when it finds
+// none (a polygon with collinear corners).
+void triangulate_polygon(const std::vector<Point_3>& points, const std::size_t* c, std::size_t k,
+                         std::vector<std::array<std::size_t, 3>>& out) {
+  std::vector<Point_3> ring;
+  ring.reserve(k);
+  for (std::size_t i = 0; i < k; ++i) ring.push_back(points[c[i]]);
+  std::vector<CGAL::Triple<int, int, int>> tris;
+  CGAL::Polygon_mesh_processing::triangulate_hole_polyline(ring, std::back_inserter(tris));
+
+  bool ok = tris.size() == k - 2;
+  bool reverse = false;
+  for (const auto& t : tris) {
+    const int idx[3] = {t.first, t.second, t.third};
+    for (int j = 0; j < 3; ++j) {
+      if (idx[j] < 0 || static_cast<std::size_t>(idx[j]) >= k) ok = false;
+      // The polygon's edge (0, 1) fixes the orientation of the triangle containing it.
+      if (ok && idx[j] == 0 && idx[(j + 2) % 3] == 1) reverse = true;
+    }
+  }
+  if (!ok) {
+    for (std::size_t i = 1; i + 1 < k; ++i) out.push_back({c[0], c[i], c[i + 1]});
+    return;
+  }
+  for (const auto& t : tris) {
+    if (reverse) out.push_back({c[t.first], c[t.third], c[t.second]});
+    else out.push_back({c[t.first], c[t.second], c[t.third]});
+  }
+}
+
+struct Half_edge {
+  std::size_t lo, hi;  // sorted vertex pair
+  std::size_t face;
+  bool forward;        // the face goes lo -> hi
+  bool operator<(const Half_edge& o) const {
+    return std::tie(lo, hi, face) < std::tie(o.lo, o.hi, o.face);
+  }
+};
+
+std::size_t find_root(std::vector<std::size_t>& parent, std::size_t i) {
+  while (parent[i] != i) i = parent[i] = parent[parent[i]];
+  return i;
+}
+
+}  // namespace
+
+Mesh_data validate_polygon_soup(const Polygon_soup& soup, Mesh_read_report* report) {
+  const std::size_t n = soup.points.size();
+  const std::size_t np = soup.number_of_polygons();
+  auto fail_at_polygon = [&](std::size_t p, const std::string& problem) {
+    throw Invalid_input(soup.location(soup.polygon_where[p]), problem);
+  };
+
+  Mesh_data mesh;
+  mesh.points = soup.points;
+  std::vector<std::size_t> source;  // polygon of each triangle
+  std::size_t triangulated = 0;
+  std::vector<std::size_t> sorted;
+  for (std::size_t p = 0; p < np; ++p) {
+    const std::size_t* c = soup.corners.data() + soup.start[p];
+    const std::size_t k = soup.start[p + 1] - soup.start[p];
+    if (k < 3)
+      fail_at_polygon(p, "face " + std::to_string(p) + " has " + std::to_string(k) +
+                             (k == 1 ? " vertex" : " vertices") + "; a face needs at least 3");
+    for (std::size_t i = 0; i < k; ++i)
+      if (c[i] >= n)
+        fail_at_polygon(p, "face " + std::to_string(p) + " refers to vertex " + std::to_string(c[i]) +
+                               ", but there are only " + std::to_string(n) + " vertices");
+    sorted.assign(c, c + k);
+    std::sort(sorted.begin(), sorted.end());
+    const auto dup = std::adjacent_find(sorted.begin(), sorted.end());
+    if (dup != sorted.end())
+      fail_at_polygon(p, "vertex " + std::to_string(*dup) + " appears more than once in face " +
+                             std::to_string(p));
+    if (k == 3) {
+      mesh.triangles.push_back({c[0], c[1], c[2]});
+    } else {
+      triangulate_polygon(mesh.points, c, k, mesh.triangles);
+      ++triangulated;
+    }
+    source.resize(mesh.triangles.size(), p);
+    if (!soup.polygon_patch.empty()) mesh.face_patch.resize(mesh.triangles.size(), soup.polygon_patch[p]);
+  }
+
+  // Edges: at most two faces each, and two faces traverse their common edge in opposite
+  // directions (that is what consistent orientation means).
+  const std::size_t nt = mesh.triangles.size();
+  std::vector<Half_edge> hes;
+  hes.reserve(3 * nt);
+  for (std::size_t t = 0; t < nt; ++t)
+    for (int j = 0; j < 3; ++j) {
+      const std::size_t a = mesh.triangles[t][j], b = mesh.triangles[t][(j + 1) % 3];
+      hes.push_back({std::min(a, b), std::max(a, b), t, a < b});
+    }
+  std::sort(hes.begin(), hes.end());
+  for (std::size_t i = 0; i < hes.size();) {
+    std::size_t j = i + 1;
+    while (j < hes.size() && hes[j].lo == hes[i].lo && hes[j].hi == hes[i].hi) ++j;
+    const std::string edge_name =
+        "edge (" + std::to_string(hes[i].lo) + ", " + std::to_string(hes[i].hi) + ")";
+    if (j - i > 2) {
+      std::string faces;
+      for (std::size_t k = i; k < j; ++k)
+        faces += (k > i ? ", " : "") + std::string("face ") + std::to_string(source[hes[k].face]) +
+                 " (" + where_text(soup, soup.polygon_where[source[hes[k].face]]) + ")";
+      fail_at_polygon(source[hes[i + 2].face], edge_name + " is shared by " + std::to_string(j - i) +
+                                                   " faces: " + faces + "; the mesh is not manifold");
+    }
+    if (j - i == 2 && hes[i].forward == hes[i + 1].forward) {
+      const std::size_t p = source[hes[i].face], q = source[hes[i + 1].face];
+      fail_at_polygon(q, "face " + std::to_string(q) + " traverses " + edge_name +
+                             " in the same direction as face " + std::to_string(p) + " (" +
+                             where_text(soup, soup.polygon_where[p]) +
+                             "): the faces are not consistently oriented");
+    }
+    i = j;
+  }
+
+  // Vertices: the faces around each vertex form one fan (else two surfaces touch at a point).
+  std::vector<std::size_t> first(n + 1, 0);
+  for (const auto& t : mesh.triangles)
+    for (std::size_t v : t) ++first[v + 1];
+  std::partial_sum(first.begin(), first.end(), first.begin());
+  std::vector<std::size_t> corner_face(3 * nt), fill(first.begin(), first.end() - 1);
+  for (std::size_t t = 0; t < nt; ++t)
+    for (std::size_t v : mesh.triangles[t]) corner_face[fill[v]++] = t;
+  std::vector<std::pair<std::size_t, std::size_t>> nbr;  // (other vertex, local corner)
+  std::vector<std::size_t> parent;
+  for (std::size_t v = 0; v < n; ++v) {
+    const std::size_t m = first[v + 1] - first[v];
+    if (m == 0) {
+      if (report) report->isolated_vertices.push_back(v);
+      continue;
+    }
+    nbr.clear();
+    for (std::size_t i = 0; i < m; ++i) {
+      const auto& t = mesh.triangles[corner_face[first[v] + i]];
+      for (std::size_t w : t)
+        if (w != v) nbr.emplace_back(w, i);
+    }
+    std::sort(nbr.begin(), nbr.end());
+    parent.resize(m);
+    std::iota(parent.begin(), parent.end(), 0);
+    std::size_t components = m;
+    for (std::size_t i = 1; i < nbr.size(); ++i)
+      if (nbr[i].first == nbr[i - 1].first) {
+        const std::size_t a = find_root(parent, nbr[i].second), b = find_root(parent, nbr[i - 1].second);
+        if (a != b) { parent[a] = b; --components; }
+      }
+    if (components > 1) {
+      const std::size_t root0 = find_root(parent, 0);
+      std::size_t other = 1;
+      while (find_root(parent, other) == root0) ++other;
+      const std::size_t p = source[corner_face[first[v]]], q = source[corner_face[first[v] + other]];
+      fail_at_polygon(q, "face " + std::to_string(q) + " and face " + std::to_string(p) + " (" +
+                             where_text(soup, soup.polygon_where[p]) + ") meet only at vertex " +
+                             std::to_string(v) + ", whose faces form " + std::to_string(components) +
+                             " separate fans: the mesh is not manifold");
+    }
+  }
+
+  // Curve edges must be edges of the mesh.
+  for (std::size_t e = 0; e < soup.edges.size(); ++e) {
+    const auto& ce = soup.edges[e];
+    const Input_location at = soup.location(soup.edge_where[e]);
+    for (std::size_t v : ce)
+      if (v >= n)
+        throw Invalid_input(at, "curve edge refers to vertex " + std::to_string(v) +
+                                    ", but there are only " + std::to_string(n) + " vertices");
+    if (ce[0] == ce[1]) throw Invalid_input(at, "curve edge joins vertex " + std::to_string(ce[0]) + " to itself");
+    const Half_edge key{std::min(ce[0], ce[1]), std::max(ce[0], ce[1]), 0, true};
+    const auto it = std::lower_bound(hes.begin(), hes.end(), key);
+    if (it == hes.end() || it->lo != key.lo || it->hi != key.hi)
+      throw Invalid_input(at, "curve edge (" + std::to_string(ce[0]) + ", " + std::to_string(ce[1]) +
+                                  ") is not an edge of the mesh");
+    mesh.curve_edges.push_back(ce);
+  }
+
+  if (report) {
+    report->file = soup.file;
+    report->polygons_read = np;
+    report->polygons_triangulated = triangulated;
+    for (std::size_t t = 0; t < nt; ++t) {
+      const auto& tri = mesh.triangles[t];
+      if (CGAL::collinear(mesh.points[tri[0]], mesh.points[tri[1]], mesh.points[tri[2]]))
+        report->degenerate_faces.push_back(t);
+    }
+  }
+  return mesh;
+}
+
+}  // namespace internal
+}  // namespace meshfit

@@ -1,0 +1,353 @@
+// Strict PLY parser (ASCII, binary little- and big-endian). The header is validated completely
+// before the body is read; every element instance is bounds-checked against the data left, so a
+// count larger than the data gives an error at the place the data runs out.
+#include "polygon_soup.h"
+#include "text_parser.h"
+
+#include <cmath>
+#include <algorithm>
+#include <cstring>
+#include <set>
+
+namespace meshfit {
+namespace internal {
+
+namespace {
+
+enum class Ply_type { int8, uint8, int16, uint16, int32, uint32, float32, float64 };
+
+bool ply_type_from_name(std::string_view s, Ply_type& t) {
+  struct Entry { const char* name; Ply_type type; };
+  static const Entry table[] = {
+      {"char", Ply_type::int8},     {"int8", Ply_type::int8},       {"uchar", Ply_type::uint8},
+      {"uint8", Ply_type::uint8},   {"short", Ply_type::int16},     {"int16", Ply_type::int16},
+      {"ushort", Ply_type::uint16}, {"uint16", Ply_type::uint16},   {"int", Ply_type::int32},
+      {"int32", Ply_type::int32},   {"uint", Ply_type::uint32},     {"uint32", Ply_type::uint32},
+      {"float", Ply_type::float32}, {"float32", Ply_type::float32}, {"double", Ply_type::float64},
+      {"float64", Ply_type::float64}};
+  for (const Entry& e : table)
+    if (s == e.name) { t = e.type; return true; }
+  return false;
+}
+
+std::size_t size_of(Ply_type t) {
+  switch (t) {
+    case Ply_type::int8: case Ply_type::uint8: return 1;
+    case Ply_type::int16: case Ply_type::uint16: return 2;
+    case Ply_type::int32: case Ply_type::uint32: case Ply_type::float32: return 4;
+    case Ply_type::float64: return 8;
+  }
+  return 0;
+}
+
+bool is_integral(Ply_type t) { return t != Ply_type::float32 && t != Ply_type::float64; }
+
+struct Ply_property {
+  std::string name;
+  bool is_list = false;
+  Ply_type count_type = Ply_type::uint8;
+  Ply_type type = Ply_type::float32;
+};
+
+// What a property means to meshfit.
+enum class Role { none, x, y, z, face_indices, patch_id, edge_v1, edge_v2 };
+
+struct Ply_element {
+  std::string name;
+  std::uint64_t count = 0;
+  std::size_t line = 0;
+  std::vector<Ply_property> properties;
+  std::vector<Role> roles;
+};
+
+enum class Encoding { ascii, binary_le, binary_be };
+
+struct Ply_header {
+  Encoding encoding = Encoding::ascii;
+  std::vector<Ply_element> elements;
+  std::size_t body_offset = 0;
+  std::size_t end_line = 0;
+};
+
+Ply_header parse_header(Line_reader& in) {
+  Ply_header h;
+  if (!in.next_raw() || in.tokens().size() != 1 || in.tokens()[0] != "ply")
+    in.fail("expected 'ply' on the first line");
+  bool has_format = false;
+  std::set<std::string> names;
+  while (true) {
+    if (!in.next_raw()) in.fail("the header has no 'end_header' line");
+    const auto& t = in.tokens();
+    if (t.empty()) in.fail("blank line in the PLY header");
+    const std::string_view key = t[0];
+    if (key == "end_header") {
+      if (t.size() != 1) in.fail("unexpected values after 'end_header'");
+      break;
+    }
+    if (key == "comment" || key == "obj_info") continue;
+    if (key == "format") {
+      if (has_format) in.fail("second 'format' line");
+      if (t.size() != 3) in.fail("expected 'format <encoding> 1.0'");
+      if (t[1] == "ascii") h.encoding = Encoding::ascii;
+      else if (t[1] == "binary_little_endian") h.encoding = Encoding::binary_le;
+      else if (t[1] == "binary_big_endian") h.encoding = Encoding::binary_be;
+      else in.fail("unknown PLY encoding " + quote(t[1]));
+      if (t[2] != "1.0") in.fail("unsupported PLY version " + quote(t[2]) + " (expected 1.0)");
+      has_format = true;
+    } else if (key == "element") {
+      if (!has_format) in.fail("'element' before the 'format' line");
+      if (t.size() != 3) in.fail("expected 'element <name> <count>'");
+      Ply_element e;
+      e.name = std::string(t[1]);
+      if (!names.insert(e.name).second) in.fail("element " + quote(t[1]) + " is declared twice");
+      e.count = in.to_unsigned(t[2], "element count");
+      e.line = in.line_number();
+      h.elements.push_back(std::move(e));
+    } else if (key == "property") {
+      if (h.elements.empty()) in.fail("'property' before any 'element'");
+      Ply_property p;
+      if (t.size() == 5 && t[1] == "list") {
+        p.is_list = true;
+        if (!ply_type_from_name(t[2], p.count_type)) in.fail("unknown PLY type " + quote(t[2]));
+        if (!is_integral(p.count_type)) in.fail("a list count must have an integer type");
+        if (!ply_type_from_name(t[3], p.type)) in.fail("unknown PLY type " + quote(t[3]));
+        p.name = std::string(t[4]);
+      } else if (t.size() == 3) {
+        if (!ply_type_from_name(t[1], p.type)) in.fail("unknown PLY type " + quote(t[1]));
+        p.name = std::string(t[2]);
+      } else {
+        in.fail("expected 'property <type> <name>' or 'property list <type> <type> <name>'");
+      }
+      Ply_element& e = h.elements.back();
+      for (const auto& q : e.properties)
+        if (q.name == p.name) in.fail("property " + quote(p.name) + " is declared twice");
+      Role role = Role::none;
+      if (e.name == "vertex" && !p.is_list) {
+        if (p.name == "x") role = Role::x;
+        if (p.name == "y") role = Role::y;
+        if (p.name == "z") role = Role::z;
+      } else if (e.name == "face") {
+        if (p.name == "vertex_indices" || p.name == "vertex_index") {
+          if (!p.is_list) in.fail("face property " + quote(p.name) + " must be a list");
+          if (!is_integral(p.type)) in.fail("vertex indices must have an integer type");
+          for (Role r : e.roles)
+            if (r == Role::face_indices) in.fail("a second list of face vertex indices");
+          role = Role::face_indices;
+        } else if (p.name == "patch_id" && !p.is_list) {
+          if (!is_integral(p.type)) in.fail("patch_id must have an integer type");
+          role = Role::patch_id;
+        }
+      } else if (e.name == "edge" && !p.is_list) {
+        if (p.name == "vertex1") role = Role::edge_v1;
+        if (p.name == "vertex2") role = Role::edge_v2;
+        if (role != Role::none && !is_integral(p.type)) in.fail("edge vertices must have an integer type");
+      }
+      e.properties.push_back(std::move(p));
+      e.roles.push_back(role);
+    } else {
+      in.fail("unknown PLY header line " + quote(key));
+    }
+  }
+  if (!has_format) in.fail("the header has no 'format' line");
+  h.end_line = in.line_number();
+  h.body_offset = in.offset();
+  for (const Ply_element& e : h.elements) {
+    auto has = [&](Role r) {
+      for (Role q : e.roles) if (q == r) return true;
+      return false;
+    };
+    const Input_location at = Input_location::at_line(in.file_name(), e.line);
+    if (e.name == "vertex" && !(has(Role::x) && has(Role::y) && has(Role::z)))
+      throw Invalid_input(at, "the vertex element needs properties x, y and z");
+    if (e.name == "face" && !has(Role::face_indices))
+      throw Invalid_input(at, "the face element needs a list property vertex_indices");
+    if (e.name == "edge" && !(has(Role::edge_v1) && has(Role::edge_v2)))
+      throw Invalid_input(at, "the edge element needs properties vertex1 and vertex2");
+  }
+  return h;
+}
+
+// Reads values from the body, ASCII or binary, with locations for errors.
+class Body_reader {
+ public:
+  Body_reader(std::string_view text, const Ply_header& h, const std::string& file, Line_reader& lines)
+      : m_text(text), m_encoding(h.encoding), m_pos(h.body_offset), m_file(file), m_lines(lines) {}
+
+  // Starts an element instance; returns its location (line or byte offset).
+  std::size_t begin_instance(const Ply_element& e, std::uint64_t i) {
+    if (m_encoding != Encoding::ascii) {
+      m_element = &e.name;
+      m_index = i;
+      return m_pos;
+    }
+    if (!m_lines.next())
+      throw Invalid_input(Input_location::at_line(m_file, e.line),
+                          "the header declares " + std::to_string(e.count) + " " + e.name +
+                              " elements but the file ends after " + std::to_string(i));
+    m_token = 0;
+    return m_lines.line_number();
+  }
+  void end_instance(const Ply_element& e) {
+    if (m_encoding == Encoding::ascii && m_token != m_lines.tokens().size())
+      m_lines.fail("element '" + e.name + "' has " +
+                   std::to_string(m_lines.tokens().size() - m_token) + " values too many");
+  }
+  // The number of items a list of `count_type` may hold, checked against the data left.
+  std::uint64_t list_count(Ply_type count_type, Ply_type item_type, const std::string& prop) {
+    const double c = value(count_type, prop);
+    if (c < 0) fail_here("list " + quote(prop) + " has a negative length");
+    const std::uint64_t n = static_cast<std::uint64_t>(c);
+    const std::uint64_t left = m_encoding == Encoding::ascii
+                                   ? m_lines.tokens().size() - m_token
+                                   : (m_text.size() - m_pos) / size_of(item_type);
+    if (n > left)
+      fail_here("list " + quote(prop) + " declares " + std::to_string(n) + " items but only " +
+                std::to_string(left) + " values are left");
+    return n;
+  }
+  double value(Ply_type t, const std::string& prop) {
+    if (m_encoding == Encoding::ascii) {
+      if (m_token >= m_lines.tokens().size()) m_lines.fail("missing value for property " + quote(prop));
+      const std::string_view tok = m_lines.tokens()[m_token++];
+      if (is_integral(t)) {
+        const std::int64_t v = m_lines.to_signed(tok, prop.c_str());
+        if (!fits(t, static_cast<double>(v)))
+          m_lines.fail("value " + quote(tok) + " does not fit the type of property " + quote(prop));
+        return static_cast<double>(v);
+      }
+      return m_lines.to_double(tok, prop.c_str());
+    }
+    const std::size_t n = size_of(t);
+    if (m_text.size() - m_pos < n)
+      throw Invalid_input(Input_location::at_byte(m_file, m_pos),
+                          "file ends inside " + instance() + " (property " + quote(prop) + ")");
+    unsigned char b[8];
+    std::memcpy(b, m_text.data() + m_pos, n);
+    if (m_encoding == Encoding::binary_be)
+      for (std::size_t i = 0; i < n / 2; ++i) std::swap(b[i], b[n - 1 - i]);
+    const std::size_t at = m_pos;
+    m_pos += n;
+    double v = 0;
+    switch (t) {
+      case Ply_type::int8: { std::int8_t x; std::memcpy(&x, b, 1); v = x; break; }
+      case Ply_type::uint8: { std::uint8_t x; std::memcpy(&x, b, 1); v = x; break; }
+      case Ply_type::int16: { std::int16_t x; std::memcpy(&x, b, 2); v = x; break; }
+      case Ply_type::uint16: { std::uint16_t x; std::memcpy(&x, b, 2); v = x; break; }
+      case Ply_type::int32: { std::int32_t x; std::memcpy(&x, b, 4); v = x; break; }
+      case Ply_type::uint32: { std::uint32_t x; std::memcpy(&x, b, 4); v = x; break; }
+      case Ply_type::float32: { float x; std::memcpy(&x, b, 4); v = x; break; }
+      case Ply_type::float64: { std::memcpy(&v, b, 8); break; }
+    }
+    if (!std::isfinite(v))
+      throw Invalid_input(Input_location::at_byte(m_file, at),
+                          "property " + quote(prop) + " of " + instance() + " is not finite");
+    return v;
+  }
+  void finish(const Ply_header& h) {
+    if (m_encoding == Encoding::ascii) {
+      if (m_lines.next()) m_lines.fail("unexpected data after the last declared element");
+      return;
+    }
+    if (m_pos != m_text.size())
+      throw Invalid_input(Input_location::at_byte(m_file, m_pos),
+                          std::to_string(m_text.size() - m_pos) +
+                              " unexpected bytes after the last declared element");
+    (void)h;
+  }
+  [[noreturn]] void fail_here(const std::string& problem) {
+    if (m_encoding == Encoding::ascii) m_lines.fail(problem);
+    throw Invalid_input(Input_location::at_byte(m_file, m_pos), instance() + ": " + problem);
+  }
+
+ private:
+  static bool fits(Ply_type t, double v) {
+    switch (t) {
+      case Ply_type::int8: return v >= -128 && v <= 127;
+      case Ply_type::uint8: return v >= 0 && v <= 255;
+      case Ply_type::int16: return v >= -32768 && v <= 32767;
+      case Ply_type::uint16: return v >= 0 && v <= 65535;
+      case Ply_type::int32: return v >= -2147483648.0 && v <= 2147483647.0;
+      case Ply_type::uint32: return v >= 0 && v <= 4294967295.0;
+      default: return true;
+    }
+  }
+
+  std::string_view m_text;
+  Encoding m_encoding;
+  std::size_t m_pos;
+  std::string m_file;
+  Line_reader& m_lines;
+  std::size_t m_token = 0;
+  const std::string* m_element = nullptr;
+  std::uint64_t m_index = 0;
+
+  std::string instance() const {
+    return "element '" + (m_element ? *m_element : std::string()) + "' " + std::to_string(m_index);
+  }
+};
+
+}  // namespace
+
+Polygon_soup parse_ply(std::string_view text, const std::string& name) {
+  Line_reader lines(text, name, '\0');
+  const Ply_header h = parse_header(lines);
+  Polygon_soup soup;
+  soup.file = name;
+  soup.binary = h.encoding != Encoding::ascii;
+  Body_reader body(text, h, name, lines);
+
+  auto to_index = [&](double v, const std::string& what) -> std::size_t {
+    if (v < 0) body.fail_here(what + " " + std::to_string(static_cast<long long>(v)) + " is negative");
+    return static_cast<std::size_t>(v);
+  };
+
+  for (const Ply_element& e : h.elements) {
+    const bool has_patch =
+        e.name == "face" && std::find(e.roles.begin(), e.roles.end(), Role::patch_id) != e.roles.end();
+    for (std::uint64_t i = 0; i < e.count; ++i) {
+      const std::size_t where = body.begin_instance(e, i);
+      double xyz[3] = {0, 0, 0};
+      std::array<std::size_t, 2> edge{};
+      int patch = -1;
+      for (std::size_t k = 0; k < e.properties.size(); ++k) {
+        const Ply_property& p = e.properties[k];
+        if (p.is_list) {
+          const std::uint64_t n = body.list_count(p.count_type, p.type, p.name);
+          for (std::uint64_t j = 0; j < n; ++j) {
+            const double v = body.value(p.type, p.name);
+            if (e.roles[k] == Role::face_indices) soup.corners.push_back(to_index(v, "vertex index"));
+          }
+          continue;
+        }
+        const double v = body.value(p.type, p.name);
+        switch (e.roles[k]) {
+          case Role::x: xyz[0] = v; break;
+          case Role::y: xyz[1] = v; break;
+          case Role::z: xyz[2] = v; break;
+          case Role::patch_id:
+            if (v < INT32_MIN || v > INT32_MAX) body.fail_here("patch_id out of range");
+            patch = static_cast<int>(v);
+            break;
+          case Role::edge_v1: edge[0] = to_index(v, "edge vertex"); break;
+          case Role::edge_v2: edge[1] = to_index(v, "edge vertex"); break;
+          default: break;
+        }
+      }
+      body.end_instance(e);
+      if (e.name == "vertex") soup.points.emplace_back(xyz[0], xyz[1], xyz[2]);
+      if (e.name == "face") {
+        soup.end_polygon(where);
+        if (has_patch) soup.polygon_patch.push_back(patch);
+      }
+      if (e.name == "edge") {
+        soup.edges.push_back(edge);
+        soup.edge_where.push_back(where);
+      }
+    }
+  }
+  body.finish(h);
+  return soup;
+}
+
+}  // namespace internal
+}  // namespace meshfit

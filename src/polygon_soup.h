@@ -1,0 +1,45 @@
+// Private: what the mesh parsers produce before the mesh is checked and triangulated.
+#ifndef MESHFIT_SRC_POLYGON_SOUP_H
+#define MESHFIT_SRC_POLYGON_SOUP_H
+
+#include <meshfit/io.h>
+
+#include <string_view>
+
+namespace meshfit {
+namespace internal {
+
+struct Polygon_soup {
+  std::string file;
+  bool binary = false;  ///< locations are byte offsets rather than line numbers
+  std::vector<Point_3> points;
+  // Polygon p has corners corners[start[p]] .. corners[start[p+1]-1].
+  std::vector<std::size_t> corners;
+  std::vector<std::size_t> start{0};
+  std::vector<std::size_t> polygon_where;  ///< line or byte offset of each polygon
+  std::vector<int> polygon_patch;          ///< empty, or a region per polygon
+  std::vector<std::array<std::size_t, 2>> edges;
+  std::vector<std::size_t> edge_where;
+
+  std::size_t number_of_polygons() const { return start.size() - 1; }
+  void end_polygon(std::size_t where) {
+    start.push_back(corners.size());
+    polygon_where.push_back(where);
+  }
+  Input_location location(std::size_t where) const {
+    return binary ? Input_location::at_byte(file, where) : Input_location::at_line(file, where);
+  }
+};
+
+Polygon_soup parse_off(std::string_view text, const std::string& name);
+Polygon_soup parse_obj(std::string_view text, const std::string& name);
+Polygon_soup parse_ply(std::string_view text, const std::string& name);
+Polygon_soup parse_stl(std::string_view text, const std::string& name);
+
+/// Checks the soup and triangulates its polygons (see io.h for what is checked).
+Mesh_data validate_polygon_soup(const Polygon_soup& soup, Mesh_read_report* report);
+
+}  // namespace internal
+}  // namespace meshfit
+
+#endif  // MESHFIT_SRC_POLYGON_SOUP_H
