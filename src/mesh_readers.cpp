@@ -20,7 +20,9 @@ Polygon_soup parse_off_impl(std::string_view text, const std::string& name) {
   Polygon_soup soup;
   soup.file = name;
   Line_reader in(text, name);
-  if (!in.next()) in.fail("empty file: expected an OFF header");
+  if (!in.next())
+    throw Invalid_input(Input_location{name, 0, Input_location::no_offset},
+                        "empty file: expected an OFF header");
 
   std::string_view head = in.tokens()[0];
   if (head.size() < 3 || head.substr(head.size() - 3) != "OFF")

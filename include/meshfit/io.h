@@ -14,6 +14,7 @@
 #define MESHFIT_IO_H
 
 #include <meshfit/exceptions.h>
+#include <meshfit/internal/clear_mesh.h>
 #include <meshfit/kernel.h>
 
 #include <CGAL/boost/graph/Euler_operations.h>
@@ -111,7 +112,7 @@ build_triangle_mesh(const Mesh_data& mesh, TriangleMesh& tm,
   auto vpm = choose_parameter(get_parameter(np, CGAL::internal_np::vertex_point),
                               get_property_map(CGAL::vertex_point, tm));
 
-  CGAL::clear(tm);
+  internal::clear_mesh(tm);
   std::vector<vertex_descriptor> vertex_of(mesh.points.size());
   for (std::size_t i = 0; i < mesh.points.size(); ++i) {
     vertex_of[i] = add_vertex(tm);

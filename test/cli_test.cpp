@@ -1,0 +1,82 @@
+// Runs the meshfit command as a user would and checks exit statuses and messages.
+#include "malformed_catalogue.h"
+#include "test_helpers.h"
+
+#include <sys/wait.h>
+
+using namespace meshfit_test;
+
+namespace {
+
+struct Run_result {
+  int status = -1;
+  std::string out, err;
+};
+
+Run_result run(const Temp_dir& dir, const std::string& args) {
+  const std::string out = dir.file("stdout.txt"), err = dir.file("stderr.txt");
+  const std::string cmd = std::string("'") + MESHFIT_CLI + "' " + args + " > '" + out + "' 2> '" + err + "' < /dev/null";
+  const int raw = std::system(cmd.c_str());
+  Run_result r;
+  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : 128 + WTERMSIG(raw);
+  r.out = read_text(out);
+  r.err = read_text(err);
+  return r;
+}
+
+std::string q(const std::string& s) { return "'" + s + "'"; }
+
+}  // namespace
+
+TEST_CASE("cli: check on the embedded example succeeds and prints the summary", "[cli]") {
+  Temp_dir dir;
+  const std::string d = MESHFIT_EXAMPLE_DATA_DIR;
+  const Run_result r = run(dir, "check --template " + q(d + "/template.off") + " --curves " +
+                                    q(d + "/curves.polylines.txt") + " --correspondences " + q(d + "/pairs.txt"));
+  CHECK(r.status == 0);
+  CHECK(r.err.empty());
+  CHECK(r.out.find("vertices:            2562") != std::string::npos);
+  CHECK(r.out.find("feature points:      10") != std::string::npos);
+  CHECK(r.out.find("genus:               0") != std::string::npos);
+  CHECK(r.out.find("problems:              none") != std::string::npos);
+}
+
+TEST_CASE("cli: every malformed input gives one line with its location and exit status 1", "[cli][malformed]") {
+  for (const Malformed_case& c : malformed_catalogue()) {
+    SECTION(c.name) {
+      Temp_dir dir;
+      const std::string bad = dir.write("bad" + c.extension, c.content);
+      const std::string t = c.kind == Input_kind::template_mesh ? bad : dir.write("t.off", valid_template_off());
+      const std::string cu = c.kind == Input_kind::curves ? bad : dir.write("c.polylines.txt", valid_curves());
+      const std::string p = c.kind == Input_kind::correspondences ? bad : dir.write("p.txt", valid_pairs());
+      const Run_result r = run(dir, "check --template " + q(t) + " --curves " + q(cu) + " --correspondences " + q(p));
+      INFO(c.name << ": " << r.err);
+      CHECK(r.status == 1);
+      CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+      std::string location = bad;
+      if (c.line) location += ":" + std::to_string(c.line) + ": ";
+      else if (c.byte_offset != SIZE_MAX) location += ": byte " + std::to_string(c.byte_offset) + ": ";
+      CHECK(r.err.find(location) != std::string::npos);
+      CHECK(r.err.find(c.fragment) != std::string::npos);
+    }
+  }
+}
+
+TEST_CASE("cli: usage errors exit with status 2 and stages not yet built say so", "[cli]") {
+  Temp_dir dir;
+  CHECK(run(dir, "").status == 2);
+  CHECK(run(dir, "frobnicate").status == 2);
+  CHECK(run(dir, "check --template").status == 2);
+  CHECK(run(dir, "check --template a.off --curves c.txt").status == 2);
+  CHECK(run(dir, "check --template a.off --curves c.txt --correspondences p.txt --bogus").status == 2);
+  for (const char* stage : {"fit", "deform", "partition", "smooth"}) {
+    const Run_result r = run(dir, std::string(stage) + " --template a.off --output o.obj");
+    CHECK(r.status == 2);
+    CHECK(r.err.find("not available yet") != std::string::npos);
+  }
+  const Run_result missing = run(dir, "check --template " + q(dir.file("none.off")) + " --curves c --correspondences p");
+  CHECK(missing.status == 1);
+  CHECK(missing.err.find("cannot open") != std::string::npos);
+  CHECK(run(dir, "--help").status == 0);
+  CHECK(run(dir, "--version").out.find("meshfit ") == 0);
+}

@@ -1,0 +1,17 @@
+# Installs meshfit from MESHFIT_BUILD_DIR into WORK_DIR/prefix, then builds and runs the consumer.
+file(REMOVE_RECURSE "${WORK_DIR}")
+if(NOT BUILD_TYPE)
+  set(BUILD_TYPE Release)
+endif()
+function(run)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "failed (${rc}): ${ARGN}\n${out}\n${err}")
+  endif()
+  message("${out}")
+endfunction()
+run(${CMAKE_COMMAND} --install "${MESHFIT_BUILD_DIR}" --prefix "${WORK_DIR}/prefix" --config ${BUILD_TYPE})
+run(${CMAKE_COMMAND} -S "${CONSUMER_SOURCE_DIR}" -B "${WORK_DIR}/build"
+    -DCMAKE_BUILD_TYPE=${BUILD_TYPE} "-DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix")
+run(${CMAKE_COMMAND} --build "${WORK_DIR}/build")
+run("${WORK_DIR}/build/consumer" "${EXAMPLE_DATA_DIR}/curves.polylines.txt")

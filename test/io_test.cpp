@@ -1,0 +1,289 @@
+#include <meshfit/check.h>
+#include <meshfit/correspondence.h>
+#include <meshfit/curve_network.h>
+#include <meshfit/io.h>
+
+#include <CGAL/Polyhedron_3.h>
+#include <CGAL/Surface_mesh.h>
+#include <CGAL/boost/graph/graph_traits_Polyhedron_3.h>
+#include <CGAL/boost/graph/properties_Polyhedron_3.h>
+
+#include "malformed_catalogue.h"
+#include "test_helpers.h"
+
+#include <sstream>
+
+using namespace meshfit_test;
+using meshfit::Mesh_data;
+using meshfit::Mesh_format;
+
+namespace {
+
+Mesh_data parse(const std::string& content, Mesh_format f, meshfit::Mesh_read_report* r = nullptr) {
+  return meshfit::parse_mesh_data(content, f, "mem", r);
+}
+
+std::string to_text(const Mesh_data& m, Mesh_format f,
+                    meshfit::Ply_encoding e = meshfit::Ply_encoding::ascii) {
+  std::ostringstream os;
+  meshfit::write_mesh_data(os, f, m, e);
+  return os.str();
+}
+
+void require_same(const Mesh_data& a, const Mesh_data& b) {
+  REQUIRE(a.points.size() == b.points.size());
+  for (std::size_t i = 0; i < a.points.size(); ++i) CHECK(a.points[i] == b.points[i]);
+  CHECK(a.triangles == b.triangles);
+  CHECK(a.face_patch == b.face_patch);
+  CHECK(a.curve_edges == b.curve_edges);
+}
+
+}  // namespace
+
+TEST_CASE("io: every malformed input of the catalogue names its line or byte", "[io][malformed]") {
+  const auto cases = malformed_catalogue();
+  REQUIRE(cases.size() >= 30);
+  for (const Malformed_case& c : cases) {
+    SECTION(c.name) {
+      Temp_dir dir;
+      const std::string path = dir.write("input" + c.extension, c.content);
+      const std::string curves = dir.write("curves.polylines.txt", valid_curves());
+      auto read = [&] {
+        switch (c.kind) {
+          case Input_kind::template_mesh: meshfit::read_mesh_data(path); break;
+          case Input_kind::curves: meshfit::read_curve_network(path); break;
+          case Input_kind::correspondences: {
+            const auto network = meshfit::read_curve_network(curves);
+            const auto pairs = meshfit::read_correspondences(path, network);
+            meshfit::validate_correspondences(pairs, parse(valid_template_off(), Mesh_format::off).points, network);
+          }
+        }
+      };
+      try {
+        read();
+        FAIL("no meshfit::Invalid_input for '" << c.name << "'");
+      } catch (const meshfit::Invalid_input& e) {
+        INFO(c.name << ": " << e.what());
+        CHECK(e.where().file == path);
+        CHECK(e.where().line == c.line);
+        if (c.byte_offset != SIZE_MAX) CHECK(e.where().byte_offset == c.byte_offset);
+        CHECK(std::string(e.what()).find(c.fragment) != std::string::npos);
+        CHECK(std::string(e.what()).find('\n') == std::string::npos);
+      }
+    }
+  }
+}
+
+TEST_CASE("io: OFF with CRLF, a byte-order mark, tabs and comments parses", "[io]") {
+  const std::string text =
+      "\xEF\xBB\xBFOFF\r\n# a comment\r\n\t3  1\t0 \r\n0 0 0\r\n1\t0 0  # trailing\r\n0 1 0\r\n\r\n3 0 1 2\r\n";
+  // A trailing comment after values is not OFF; the BOM, CRLF, blank lines and tabs are.
+  require_invalid([&] { parse(text, Mesh_format::off); }, 5, "vertex attribute");
+  const std::string ok = "\xEF\xBB\xBFOFF\r\n# a comment\r\n\t3  1\t0 \r\n0 0 0\r\n1\t0 0\r\n0 1 0\r\n\r\n3 0 1 2\r\n";
+  const Mesh_data m = parse(ok, Mesh_format::off);
+  CHECK(m.points.size() == 3);
+  REQUIRE(m.triangles.size() == 1);
+  CHECK(m.triangles[0] == std::array<std::size_t, 3>{0, 1, 2});
+}
+
+TEST_CASE("io: COFF colours, counts on the header line and old Mac line ends parse", "[io]") {
+  const Mesh_data m = parse("COFF 3 1 0\r0 0 0 255 0 0 255\r1 0 0 0 255 0 255\r0 1 0 0 0 255 255\r3 0 1 2 0.5 0.5 0.5\r",
+                            Mesh_format::off);
+  CHECK(m.points.size() == 3);
+  CHECK(m.triangles.size() == 1);
+}
+
+TEST_CASE("io: polygons are triangulated keeping their orientation", "[io]") {
+  // An L-shaped hexagon (non-convex: a fan from vertex 0 would fold) and a quad beside it.
+  meshfit::Mesh_read_report r;
+  const Mesh_data m = parse(
+      "OFF\n8 2 0\n0 0 0\n2 0 0\n2 1 0\n1 1 0\n1 2 0\n0 2 0\n3 0 0\n3 1 0\n6 0 1 2 3 4 5\n4 1 6 7 2\n",
+      Mesh_format::off, &r);
+  CHECK(r.polygons_read == 2);
+  CHECK(r.polygons_triangulated == 2);
+  REQUIRE(m.triangles.size() == 4 + 2);
+  double area = 0;
+  for (const auto& t : m.triangles) {
+    const auto n = CGAL::cross_product(m.points[t[1]] - m.points[t[0]], m.points[t[2]] - m.points[t[0]]);
+    CHECK(n.z() > 0);  // same orientation as the polygons (counter-clockwise seen from +z)
+    area += n.z() / 2;
+  }
+  CHECK(area == Approx(3.0 + 1.0));
+  CHECK(r.degenerate_faces.empty());
+}
+
+TEST_CASE("io: OBJ with texture and normal indices, negative indices and groups parses", "[io]") {
+  const Mesh_data m = parse(
+      "mtllib x.mtl\no thing\nv 0 0 0\nv 1 0 0\nv 0 1 0 0.5 0.5 0.5\nvt 0 0\nvn 0 0 1\n"
+      "g region_3\ns off\nusemtl a\nf 1/1/1 2/1/1 3//1\ng region_7\nv 1 1 0\nf -3 -1 -2\nl 1 2\n",
+      Mesh_format::obj);
+  CHECK(m.points.size() == 4);
+  REQUIRE(m.triangles.size() == 2);
+  CHECK(m.triangles[1] == std::array<std::size_t, 3>{1, 3, 2});
+  CHECK(m.face_patch == std::vector<int>{3, 7});
+  CHECK(m.curve_edges == std::vector<std::array<std::size_t, 2>>{{0, 1}});
+}
+
+TEST_CASE("io: binary PLY little- and big-endian, and ASCII PLY with extra properties", "[io]") {
+  const Mesh_data le = parse(binary_ply_tetra(false, false), Mesh_format::ply);
+  CHECK(le.points.size() == 4);
+  CHECK(le.triangles.size() == 4);
+
+  std::string be = "ply\nformat binary_big_endian 1.0\ncomment c\nelement vertex 3\nproperty double x\n"
+                   "property double y\nproperty double z\nelement face 1\n"
+                   "property list uchar uint vertex_indices\nend_header\n";
+  auto put_be = [&be](const void* p, std::size_t n) {
+    for (std::size_t i = 0; i < n; ++i) be += static_cast<const char*>(p)[n - 1 - i];
+  };
+  const double pts[3][3] = {{0, 0, 0}, {1.5, 0, 0}, {0, 2.5, 0}};
+  for (const auto& q : pts)
+    for (double c : q) put_be(&c, 8);
+  be += '\3';
+  for (std::uint32_t i : {0u, 1u, 2u}) put_be(&i, 4);
+  const Mesh_data b = parse(be, Mesh_format::ply);
+  REQUIRE(b.points.size() == 3);
+  CHECK(b.points[2] == meshfit::Point_3(0, 2.5, 0));
+
+  const Mesh_data a = parse(
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+      "property uchar red\nelement face 1\nproperty list uchar int vertex_index\nproperty int patch_id\n"
+      "element material 1\nproperty list uchar float values\nend_header\n"
+      "0 0 0 255\n1 0 0 0\n0 1 0 12\n3 0 1 2 5\n2 0.5 0.25\n",
+      Mesh_format::ply);
+  CHECK(a.triangles.size() == 1);
+  CHECK(a.face_patch == std::vector<int>{5});
+}
+
+TEST_CASE("io: STL binary and ASCII are welded into shared vertices", "[io]") {
+  const Mesh_data oct = octahedron();
+  const std::string ascii = to_text(oct, Mesh_format::stl);
+  const Mesh_data a = parse(ascii, Mesh_format::stl);
+  CHECK(a.points.size() == 6);
+  CHECK(a.triangles.size() == 8);
+  CHECK(meshfit::summarize_mesh(a).boundaries == 0);
+
+  std::string bin(80, 'x');
+  append_le<std::uint32_t>(bin, 8);
+  for (const auto& t : oct.triangles) {
+    for (int k = 0; k < 3; ++k) append_le<float>(bin, 0.f);
+    for (std::size_t v : t)
+      for (int k = 0; k < 3; ++k) append_le<float>(bin, static_cast<float>(oct.points[v][k]));
+    append_le<std::uint16_t>(bin, 0);
+  }
+  const Mesh_data b = parse(bin, Mesh_format::stl);
+  CHECK(b.points.size() == 6);
+  CHECK(b.triangles.size() == 8);
+  CHECK(meshfit::summarize_mesh(b).genus == 0);
+}
+
+TEST_CASE("io: write then read gives the same mesh, regions and curve edges", "[io][roundtrip]") {
+  Mesh_data m = grid(6);
+  // Irrational coordinates: the text must carry all 17 digits.
+  for (auto& p : m.points) p = meshfit::Point_3(p.x() / 3.0, p.y() * std::sqrt(2.0), 1e-7 * p.x() * p.y());
+  for (std::size_t f = 0; f < m.triangles.size(); ++f) m.face_patch.push_back(static_cast<int>(f % 5 == 0 ? 2 : f / 30));
+  m.curve_edges = {{0, 1}, {1, 2}, {8, 9}};
+  Temp_dir dir;
+  for (const char* name : {"m.obj", "m.ply", "m_bin.ply"}) {
+    SECTION(name) {
+      meshfit::Write_options o;
+      if (std::string(name) == "m_bin.ply") o.ply_encoding = meshfit::Ply_encoding::binary_little_endian;
+      const std::string path = dir.file(name);
+      meshfit::write_mesh_data(path, m, o);
+      require_same(meshfit::read_mesh_data(path), m);
+    }
+  }
+  SECTION("off keeps geometry only") {
+    meshfit::write_mesh_data(dir.file("m.off"), m);
+    const Mesh_data back = meshfit::read_mesh_data(dir.file("m.off"));
+    Mesh_data geometry = m;
+    geometry.face_patch.clear();
+    geometry.curve_edges.clear();
+    require_same(back, geometry);
+  }
+}
+
+TEST_CASE("io: writing is atomic and never overwrites an input", "[io]") {
+  Temp_dir dir;
+  const std::string input = dir.write("in.off", valid_template_off());
+  const Mesh_data m = meshfit::read_mesh_data(input);
+  meshfit::Write_options o;
+  o.protected_paths = {input};
+  require_invalid([&] { meshfit::write_mesh_data(input, m, o); }, 0, "refusing to overwrite an input");
+  // Another spelling of the same path is refused as well.
+  require_invalid([&] { meshfit::write_mesh_data(dir.file("./sub/../in.off"), m, o); }, 0, "refusing");
+  CHECK(read_text(input) == valid_template_off());
+
+  // A mesh that cannot be written leaves nothing behind, not even the temporary file.
+  Mesh_data bad = m;
+  bad.triangles.push_back({0, 1, 99});
+  CHECK_THROWS_AS(meshfit::write_mesh_data(dir.file("out.obj"), bad), meshfit::Invalid_input);
+  std::size_t files = 0;
+  for (const auto& e : std::filesystem::directory_iterator(dir.file(""))) { (void)e; ++files; }
+  CHECK(files == 1);
+  require_invalid([&] { meshfit::write_mesh_data(dir.file("no/such/dir/out.off"), m); }, 0, "cannot create");
+  require_invalid([&] { meshfit::write_mesh_data(dir.file("out.xyz"), m); }, 0, "unknown mesh format");
+}
+
+TEST_CASE("io: reading into Surface_mesh and Polyhedron_3 keeps vertex order, regions and curve edges",
+          "[io][generic]") {
+  Mesh_data m = grid(3);
+  m.face_patch.assign(m.triangles.size(), 0);
+  for (std::size_t f = 9; f < m.triangles.size(); ++f) m.face_patch[f] = 1;
+  m.curve_edges = {{4, 5}, {5, 6}};
+
+  SECTION("Surface_mesh") {
+    using SM = CGAL::Surface_mesh<meshfit::Point_3>;
+    SM sm;
+    auto patch = sm.add_property_map<SM::Face_index, int>("f:patch", -1).first;
+    auto constrained = sm.add_property_map<SM::Edge_index, bool>("e:c", false).first;
+    meshfit::build_triangle_mesh(m, sm, CGAL::parameters::face_patch_map(patch).edge_is_constrained_map(constrained));
+    CHECK(sm.number_of_vertices() == m.points.size());
+    for (auto v : sm.vertices()) CHECK(sm.point(v) == m.points[v.idx()]);
+    const Mesh_data back =
+        meshfit::to_mesh_data(sm, CGAL::parameters::face_patch_map(patch).edge_is_constrained_map(constrained));
+    CHECK(back.points.size() == m.points.size());
+    CHECK(back.triangles == m.triangles);
+    CHECK(back.face_patch == m.face_patch);
+    CHECK(back.curve_edges.size() == 2);
+  }
+  SECTION("Polyhedron_3") {
+    using P = CGAL::Polyhedron_3<meshfit::Kernel>;
+    P poly;
+    meshfit::build_triangle_mesh(m, poly);
+    CHECK(poly.size_of_vertices() == m.points.size());
+    CHECK(poly.size_of_facets() == m.triangles.size());
+    const Mesh_data back = meshfit::to_mesh_data(poly);
+    for (std::size_t i = 0; i < m.points.size(); ++i) CHECK(back.points[i] == m.points[i]);
+    CHECK(meshfit::summarize_mesh(back).boundaries == 1);
+  }
+}
+
+#ifdef MESHFIT_CGAL_DATA_DIR
+TEST_CASE("io: CGAL's sample meshes read with the expected topology", "[io][real]") {
+  struct Expect { const char* file; std::size_t vertices, faces, boundaries, genus; };
+  // Counts from the files' headers. Each is one closed component, so genus = (2 - V + E - F) / 2
+  // with E = 3F/2: the elephant (V - F/2 = -4) has genus 3, the camel and the cow genus 0.
+  const Expect expected[] = {{"elephant.off", 2775, 5558, 0, 3},
+                             {"camel.off", 9770, 19536, 0, 0},
+                             {"cow.off", 2904, 5804, 0, 0},
+                             {"elephant-with-holes.off", 0, 0, 0, 0}};
+  for (const Expect& e : expected) {
+    SECTION(e.file) {
+      meshfit::Mesh_read_report r;
+      const Mesh_data m = meshfit::read_mesh_data(std::string(MESHFIT_CGAL_DATA_DIR) + "/" + e.file, &r);
+      const meshfit::Mesh_summary s = meshfit::summarize_mesh(m);
+      if (e.vertices == 0) {  // the holed elephant: just open
+        CHECK(s.boundaries > 0);
+        CHECK(s.faces == m.triangles.size());
+        return;
+      }
+      CHECK(s.vertices == e.vertices);
+      CHECK(s.faces == e.faces);
+      CHECK(s.boundaries == e.boundaries);
+      CHECK(s.genus == e.genus);
+      CHECK(s.components == 1);
+      CHECK(s.edges == 3 * s.faces / 2);
+    }
+  }
+}
+#endif
