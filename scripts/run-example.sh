@@ -1,0 +1,14 @@
+#!/usr/bin/env bash
+# Builds meshfit and runs it on the embedded example (examples/data), writing to out/example/.
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+"$root/scripts/install-deps.sh"
+"$root/scripts/build.sh" "$root/build"
+
+out="$root/out/example"
+mkdir -p "$out"
+data="$root/examples/data"
+# The full pipeline (meshfit fit) replaces this check once its stages exist.
+"$root/build/meshfit" check --template "$data/template.off" --curves "$data/curves.polylines.txt" \
+  --correspondences "$data/pairs.txt" | tee "$out/check.txt"
+echo "meshfit: outputs written to $out" >&2

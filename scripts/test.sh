@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# Builds meshfit and runs the whole test suite: once in a release build, then once more with
+# AddressSanitizer and UndefinedBehaviorSanitizer (build-asan/). Set MESHFIT_SKIP_SANITIZE=1 to
+# run the release build only.
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+"$root/scripts/install-deps.sh"
+
+jobs="$(nproc)"
+"$root/scripts/build.sh" "$root/build"
+(cd "$root/build" && ctest --output-on-failure --parallel "$jobs")
+
+if [ "${MESHFIT_SKIP_SANITIZE:-0}" != 1 ]; then
+  "$root/scripts/build.sh" "$root/build-asan" -DMESHFIT_SANITIZE=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DMESHFIT_BUILD_EXAMPLES=OFF
+  (cd "$root/build-asan" && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
+     UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+     ctest --output-on-failure --parallel "$jobs" -E install_and_consume)
+fi
