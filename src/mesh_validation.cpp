@@ -26,7 +26,16 @@ void triangulate_polygon(const std::vector<Point_3>& points, const std::size_t* 
   ring.reserve(k);
   for (std::size_t i = 0; i < k; ++i) ring.push_back(points[c[i]]);
   std::vector<CGAL::Triple<int, int, int>> tris;
-  CGAL::Polygon_mesh_processing::triangulate_hole_polyline(ring, std::back_inserter(tris));
+  namespace PMP = CGAL::Polygon_mesh_processing;
+  if (k <= 32) {
+    PMP::triangulate_hole_polyline(ring, std::back_inserter(tris));
+  } else {
+    // The exhaustive search is cubic in k: large polygons get the planar constrained Delaunay
+    // triangulation or the search restricted to Delaunay faces, never the cubic fallback.
+    PMP::triangulate_hole_polyline(ring, std::back_inserter(tris),
+                                   CGAL::parameters::use_2d_constrained_delaunay_triangulation(true)
+                                       .do_not_use_cubic_algorithm(true));
+  }
 
   bool ok = tris.size() == k - 2;
   bool reverse = false;

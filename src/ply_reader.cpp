@@ -157,6 +157,9 @@ Ply_header parse_header(Line_reader& in) {
       return false;
     };
     const Input_location at = Input_location::at_line(in.file_name(), e.line);
+    // An instance with no property occupies no byte: an absurd count would loop for ever.
+    if (e.properties.empty() && e.count > 0)
+      throw Invalid_input(at, "element " + quote(e.name) + " has no properties");
     if (e.name == "vertex" && !(has(Role::x) && has(Role::y) && has(Role::z)))
       throw Invalid_input(at, "the vertex element needs properties x, y and z");
     if (e.name == "face" && !has(Role::face_indices))

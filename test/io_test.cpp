@@ -112,6 +112,30 @@ TEST_CASE("io: polygons are triangulated keeping their orientation", "[io]") {
   CHECK(r.degenerate_faces.empty());
 }
 
+TEST_CASE("io: large and star-shaped polygons are triangulated without folding", "[io]") {
+  for (std::size_t k : {40u, 300u, 3000u}) {
+    SECTION(std::to_string(k) + " corners") {
+      // A star: radius alternating between 1 and 0.4, so half the corners are reflex.
+      std::string off = "OFF\n" + std::to_string(k) + " 1 0\n";
+      for (std::size_t i = 0; i < k; ++i) {
+        const double a = 2 * CGAL_PI * double(i) / double(k), r = (i % 2) ? 0.4 : 1.0;
+        off += std::to_string(r * std::cos(a)) + " " + std::to_string(r * std::sin(a)) + " 0\n";
+      }
+      off += std::to_string(k);
+      for (std::size_t i = 0; i < k; ++i) off += " " + std::to_string(i);
+      off += "\n";
+      const Mesh_data m = parse(off, Mesh_format::off);
+      REQUIRE(m.triangles.size() == k - 2);
+      using P2 = meshfit::Kernel::Point_2;
+      auto xy = [&](std::size_t v) { return P2(m.points[v].x(), m.points[v].y()); };
+      std::size_t folded = 0;
+      for (const auto& t : m.triangles) folded += CGAL::orientation(xy(t[0]), xy(t[1]), xy(t[2])) != CGAL::LEFT_TURN;
+      CHECK(folded == 0);
+      CHECK(meshfit::summarize_mesh(m).boundaries == 1);
+    }
+  }
+}
+
 TEST_CASE("io: OBJ with texture and normal indices, negative indices and groups parses", "[io]") {
   const Mesh_data m = parse(
       "mtllib x.mtl\no thing\nv 0 0 0\nv 1 0 0\nv 0 1 0 0.5 0.5 0.5\nvt 0 0\nvn 0 0 1\n"

@@ -128,6 +128,8 @@ inline std::vector<Malformed_case> malformed_catalogue() {
        0, header_size(binary_ply_tetra(false, false)) + 20, "file ends inside element 'vertex' 1 (property 'z')"},
       {"binary PLY with trailing bytes", K::template_mesh, ".ply", binary_ply_tetra(false, true), 0,
        header_size(binary_ply_tetra(false, true)) + 48 + 4 * 13, "3 unexpected bytes"},
+      {"PLY element without properties and an absurd count", K::template_mesh, ".ply",
+       "ply\nformat binary_little_endian 1.0\nelement junk 18446744073709551615\nend_header\n", 3, none, "has no properties"},
       // ---- STL
       {"binary STL of wrong length", K::template_mesh, ".stl", std::string(80, ' ') + std::string("\x05\0\0\0", 4) + std::string(60, '\0'),
        0, 80, "declares 5 triangles"},
