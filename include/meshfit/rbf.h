@@ -1,0 +1,87 @@
+// meshfit: radial basis function interpolation in 3D (thesis §2.2.2, eq. 2.6–2.10).
+//
+//   E(x) = Σ_j α_j φ(‖x − c_j‖) + R x + t,   Σ_j α_j = 0,  Σ_j α_j c_jᵀ = 0   (eq. 2.7)
+//
+// The centres are shifted to their centroid and scaled by their bounding-box diagonal before the
+// system is built (values likewise), so a fit is unchanged by translating or scaling the input.
+// The (n+4)×(n+4) system (eq. 2.8) is solved by LU with partial pivoting (Eigen).
+#ifndef MESHFIT_RBF_H
+#define MESHFIT_RBF_H
+
+#include <meshfit/exceptions.h>
+#include <meshfit/kernel.h>
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace meshfit {
+
+/// The basis function φ. Both are polyharmonic splines for which a linear polynomial term makes
+/// the system uniquely solvable for centres spanning 3D.
+enum class Rbf_kernel {
+  linear,  ///< φ(r) = r, biharmonic in 3D: the thesis's choice, piecewise-linear-like interpolation
+  cubic    ///< φ(r) = r³, triharmonic: smoother, may overshoot between centres (thesis fig. 2.5)
+};
+const char* to_string(Rbf_kernel kernel);
+
+/// The largest relative residual ‖K X − Y‖ / ‖Y‖ accepted after the LU solve.
+constexpr double rbf_residual_bound = 1e-9;
+/// Centres whose affine block has a relative smallest singular value below this are treated as
+/// coplanar (auxiliary pairs are added, see Rbf_interpolant::fit).
+constexpr double rbf_coplanarity_bound = 1e-9;
+
+/// What a fit did.
+struct Rbf_fit_report {
+  std::size_t centres = 0;             ///< distinct centres used (after dropping exact repeats)
+  std::size_t repeated_pairs = 0;      ///< pairs identical to an earlier one, dropped
+  std::size_t auxiliary_pairs = 0;     ///< added because the centres were (nearly) coplanar
+  double relative_residual = 0;        ///< of the linear solve
+};
+
+class Rbf_interpolant {
+ public:
+  Rbf_interpolant() = default;
+
+  /// Fits E with E(centres[i]) = values[i].
+  ///
+  /// Coplanar centres (exact test, or nearly: see rbf_coplanarity_bound) do not determine the
+  /// affine term along the plane's normal. As the thesis prescribes, auxiliary pairs are then
+  /// added: each centre c_i offset by h·n_i maps to its value offset by the same h·n_i, with h a
+  /// tenth of the centres' bounding-box diagonal, so the interpolant moves points off the plane
+  /// as it moves the plane. n_i is `normals[i]` when given (vertex normals), else the plane's
+  /// normal; when normals are given but their offsets are coplanar too, the plane's normal is used.
+  ///
+  /// \throws Invalid_input (naming the pairs by 0-based index) for: sizes that differ, a
+  ///         non-finite coordinate, fewer than 4 distinct centres, two equal centres with
+  ///         different values, all centres collinear (or equal).
+  /// \throws Numerical_error when the solve yields a non-finite value or a relative residual
+  ///         above rbf_residual_bound.
+  static Rbf_interpolant fit(const std::vector<Point_3>& centres, const std::vector<Point_3>& values,
+                             Rbf_kernel kernel = Rbf_kernel::linear,
+                             const std::vector<Vector_3>& normals = {},
+                             Rbf_fit_report* report = nullptr);
+
+  /// E(p).
+  Point_3 operator()(const Point_3& p) const;
+
+  /// out[i] = E(in[i]) for all i: O(in.size() × centres) work, blocked and vectorised, on
+  /// `threads` threads (0: all cores), memory O(in.size() + centres). `out` may alias `in`.
+  void evaluate(const std::vector<Point_3>& in, std::vector<Point_3>& out, unsigned threads = 0) const;
+
+  std::size_t number_of_centres() const { return m_cx.size(); }
+  Rbf_kernel kernel() const { return m_kernel; }
+
+ private:
+  Rbf_kernel m_kernel = Rbf_kernel::linear;
+  // Normalisation: x̂ = (x − m_shift_in) · m_scale_in; E(x) = m_shift_out + Ê(x̂) / m_scale_out.
+  Vector_3 m_shift_in{0, 0, 0}, m_shift_out{0, 0, 0};
+  double m_scale_in = 1, m_scale_out = 1;
+  // Normalised centres and weights, structure of arrays for the vectorised evaluation.
+  std::vector<double> m_cx, m_cy, m_cz, m_ax, m_ay, m_az;
+  double m_affine[4][3] = {};  // rows: x, y, z, 1
+};
+
+}  // namespace meshfit
+
+#endif  // MESHFIT_RBF_H

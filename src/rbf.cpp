@@ -1,0 +1,240 @@
+#include <meshfit/rbf.h>
+
+#include "rbf_evaluate.h"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <tuple>
+
+namespace meshfit {
+
+const char* to_string(Rbf_kernel kernel) {
+  return kernel == Rbf_kernel::linear ? "linear" : "cubic";
+}
+
+namespace {
+
+bool finite(const Point_3& p) {
+  return std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z());
+}
+
+double phi(Rbf_kernel k, double r) { return k == Rbf_kernel::linear ? r : r * r * r; }
+
+// Centroid and bounding-box diagonal of a point set.
+std::pair<Vector_3, double> frame_of(const std::vector<Point_3>& pts) {
+  double sx = 0, sy = 0, sz = 0;
+  Bbox_3 box;
+  for (const Point_3& p : pts) {
+    sx += p.x();
+    sy += p.y();
+    sz += p.z();
+    box += p.bbox();
+  }
+  const double n = static_cast<double>(pts.size());
+  const double diag = std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
+                                CGAL::square(box.zmax() - box.zmin()));
+  return {Vector_3(sx / n, sy / n, sz / n), diag};
+}
+
+// Smallest singular value of the affine block [x y z 1] relative to the largest, and the
+// direction (in normalised coordinates) along which the centres are thinnest.
+std::pair<double, Vector_3> affine_conditioning(const std::vector<Point_3>& pts, const Vector_3& shift,
+                                                double scale) {
+  Eigen::MatrixXd P(pts.size(), 4);
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const Vector_3 q = (pts[i] - CGAL::ORIGIN - shift) * scale;
+    P.row(static_cast<Eigen::Index>(i)) << q.x(), q.y(), q.z(), 1.0;
+  }
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(P, Eigen::ComputeThinV);
+  const auto& s = svd.singularValues();
+  const double ratio = s(0) > 0 ? s(3) / s(0) : 0.0;
+  // The thinnest direction of the centred cloud.
+  Eigen::MatrixXd C = P.leftCols(3);
+  C.rowwise() -= C.colwise().mean();
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd3(C, Eigen::ComputeThinV);
+  const Eigen::Vector3d n = svd3.matrixV().col(2);
+  return {ratio, Vector_3(n(0), n(1), n(2))};
+}
+
+bool all_coplanar_exact(const std::vector<Point_3>& pts) {
+  std::size_t j = 1;
+  while (j < pts.size() && pts[j] == pts[0]) ++j;
+  if (j == pts.size()) return true;
+  std::size_t k = j + 1;
+  while (k < pts.size() && CGAL::collinear(pts[0], pts[j], pts[k])) ++k;
+  if (k == pts.size()) return true;
+  for (std::size_t i = k + 1; i < pts.size(); ++i)
+    if (!CGAL::coplanar(pts[0], pts[j], pts[k], pts[i])) return false;
+  return true;
+}
+
+}  // namespace
+
+Rbf_interpolant Rbf_interpolant::fit(const std::vector<Point_3>& centres_in,
+                                     const std::vector<Point_3>& values_in, Rbf_kernel kernel,
+                                     const std::vector<Vector_3>& normals_in, Rbf_fit_report* report) {
+  if (centres_in.size() != values_in.size())
+    throw Invalid_input("RBF: " + std::to_string(centres_in.size()) + " centres but " +
+                        std::to_string(values_in.size()) + " values");
+  if (!normals_in.empty() && normals_in.size() != centres_in.size())
+    throw Invalid_input("RBF: " + std::to_string(normals_in.size()) + " normals for " +
+                        std::to_string(centres_in.size()) + " centres");
+  for (std::size_t i = 0; i < centres_in.size(); ++i)
+    if (!finite(centres_in[i]) || !finite(values_in[i]) ||
+        (!normals_in.empty() && !(std::isfinite(normals_in[i].x()) && std::isfinite(normals_in[i].y()) &&
+                                  std::isfinite(normals_in[i].z()))))
+      throw Invalid_input("RBF: pair " + std::to_string(i) + " has a non-finite coordinate");
+
+  // Repeated centres: identical pairs are dropped, conflicting ones are an error.
+  std::vector<std::size_t> order(centres_in.size());
+  std::iota(order.begin(), order.end(), 0);
+  auto key = [&](std::size_t i) {
+    return std::make_tuple(centres_in[i].x(), centres_in[i].y(), centres_in[i].z());
+  };
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return key(a) < key(b); });
+  std::vector<bool> keep(centres_in.size(), true);
+  std::size_t repeated = 0;
+  for (std::size_t k = 1; k < order.size(); ++k) {
+    const std::size_t a = order[k - 1], b = order[k];
+    if (centres_in[a] != centres_in[b]) continue;
+    if (values_in[a] != values_in[b])
+      throw Invalid_input("RBF: pairs " + std::to_string(std::min(a, b)) + " and " +
+                          std::to_string(std::max(a, b)) +
+                          " have the same centre but different values");
+    keep[std::max(a, b)] = false;
+    ++repeated;
+  }
+  std::vector<Point_3> centres, values;
+  std::vector<Vector_3> normals;
+  for (std::size_t i = 0; i < centres_in.size(); ++i)
+    if (keep[i]) {
+      centres.push_back(centres_in[i]);
+      values.push_back(values_in[i]);
+      if (!normals_in.empty()) normals.push_back(normals_in[i]);
+    }
+  if (centres.size() < 4)
+    throw Invalid_input("RBF: " + std::to_string(centres.size()) +
+                        " distinct centres; at least 4 are needed");
+
+  {
+    std::size_t j = 1;
+    while (j < centres.size() && CGAL::collinear(centres[0], centres[1], centres[j])) ++j;
+    if (j == centres.size())
+      throw Invalid_input("RBF: all " + std::to_string(centres.size()) +
+                          " centres are collinear; they must span 3D (or at least a plane)");
+  }
+
+  // Coplanar (exactly or nearly): add auxiliary pairs off the plane.
+  auto [centre_shift, centre_diag] = frame_of(centres);
+  auto [ratio, thin] = affine_conditioning(centres, centre_shift, 1.0 / centre_diag);
+  std::size_t auxiliary = 0;
+  if (all_coplanar_exact(centres) || ratio < rbf_coplanarity_bound) {
+    const double h = 0.1 * centre_diag;
+    const std::size_t n0 = centres.size();
+    auto augment = [&](bool use_normals) {
+      std::vector<Point_3> c = centres, v = values;
+      for (std::size_t i = 0; i < n0; ++i) {
+        Vector_3 d = thin;
+        if (use_normals) {
+          const double len = std::sqrt(normals[i].squared_length());
+          if (len > 0) d = normals[i] / len;
+        }
+        c.push_back(centres[i] + h * d);
+        v.push_back(values[i] + h * d);
+      }
+      return std::make_pair(c, v);
+    };
+    auto [c, v] = augment(!normals.empty());
+    auto [s, dg] = frame_of(c);
+    if (!normals.empty() && affine_conditioning(c, s, 1.0 / dg).first < rbf_coplanarity_bound)
+      std::tie(c, v) = augment(false);
+    auxiliary = c.size() - n0;
+    centres = std::move(c);
+    values = std::move(v);
+    std::tie(centre_shift, centre_diag) = frame_of(centres);
+  }
+
+  Rbf_interpolant E;
+  E.m_kernel = kernel;
+  E.m_shift_in = centre_shift;
+  E.m_scale_in = 1.0 / centre_diag;
+  const auto [value_shift, value_diag] = frame_of(values);
+  E.m_shift_out = value_shift;
+  E.m_scale_out = value_diag > 0 ? 1.0 / value_diag : 1.0;
+
+  const Eigen::Index n = static_cast<Eigen::Index>(centres.size());
+  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n + 4, n + 4);
+  Eigen::MatrixXd Y = Eigen::MatrixXd::Zero(n + 4, 3);
+  std::vector<Vector_3> c(centres.size());
+  for (Eigen::Index i = 0; i < n; ++i) {
+    c[i] = (centres[i] - CGAL::ORIGIN - E.m_shift_in) * E.m_scale_in;
+    const Vector_3 v = (values[i] - CGAL::ORIGIN - E.m_shift_out) * E.m_scale_out;
+    Y.row(i) << v.x(), v.y(), v.z();
+  }
+  for (Eigen::Index i = 0; i < n; ++i) {
+    for (Eigen::Index j = 0; j < i; ++j) {
+      const double r = std::sqrt((c[i] - c[j]).squared_length());
+      K(i, j) = K(j, i) = phi(kernel, r);
+    }
+    const double row[4] = {c[i].x(), c[i].y(), c[i].z(), 1.0};
+    for (int k = 0; k < 4; ++k) K(i, n + k) = K(n + k, i) = row[k];
+  }
+  const Eigen::PartialPivLU<Eigen::MatrixXd> lu(K);
+  const Eigen::MatrixXd X = lu.solve(Y);
+  const double residual = (K * X - Y).norm() / std::max(Y.norm(), 1e-300);
+  if (!X.allFinite() || !(residual <= rbf_residual_bound))
+    throw Numerical_error("RBF: the solve of the " + std::to_string(n + 4) + "×" + std::to_string(n + 4) +
+                          " system failed (relative residual " + std::to_string(residual) + ", bound " +
+                          std::to_string(rbf_residual_bound) + ")");
+
+  E.m_cx.resize(n); E.m_cy.resize(n); E.m_cz.resize(n);
+  E.m_ax.resize(n); E.m_ay.resize(n); E.m_az.resize(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    E.m_cx[i] = c[i].x(); E.m_cy[i] = c[i].y(); E.m_cz[i] = c[i].z();
+    E.m_ax[i] = X(i, 0); E.m_ay[i] = X(i, 1); E.m_az[i] = X(i, 2);
+  }
+  for (int k = 0; k < 4; ++k)
+    for (int d = 0; d < 3; ++d) E.m_affine[k][d] = X(n + k, d);
+
+  if (report) {
+    report->centres = centres.size() - auxiliary;
+    report->repeated_pairs = repeated;
+    report->auxiliary_pairs = auxiliary;
+    report->relative_residual = residual;
+  }
+  return E;
+}
+
+Point_3 Rbf_interpolant::operator()(const Point_3& p) const {
+  std::vector<Point_3> out, in{p};
+  evaluate(in, out, 1);
+  return out[0];
+}
+
+void Rbf_interpolant::evaluate(const std::vector<Point_3>& in, std::vector<Point_3>& out,
+                               unsigned threads) const {
+  internal::Rbf_arrays a{m_kernel, m_cx.data(), m_cy.data(), m_cz.data(), m_ax.data(), m_ay.data(),
+                         m_az.data(), m_cx.size()};
+  const double s_in = m_scale_in, s_out = m_scale_out;
+  const Vector_3 shift_in = m_shift_in, shift_out = m_shift_out;
+  const auto& A = m_affine;
+  out.resize(in.size());
+  internal::rbf_evaluate_blocks(
+      a, in.size(), threads,
+      [&](std::size_t i, double& x, double& y, double& z) {
+        x = (in[i].x() - shift_in.x()) * s_in;
+        y = (in[i].y() - shift_in.y()) * s_in;
+        z = (in[i].z() - shift_in.z()) * s_in;
+      },
+      [&](std::size_t i, double x, double y, double z, double sx, double sy, double sz) {
+        double r[3];
+        for (int d = 0; d < 3; ++d) r[d] = A[0][d] * x + A[1][d] * y + A[2][d] * z + A[3][d];
+        out[i] = Point_3(shift_out.x() + (sx + r[0]) / s_out, shift_out.y() + (sy + r[1]) / s_out,
+                         shift_out.z() + (sz + r[2]) / s_out);
+      });
+}
+
+}  // namespace meshfit

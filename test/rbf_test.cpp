@@ -1,0 +1,156 @@
+#include <meshfit/rbf.h>
+
+#include "test_helpers.h"
+
+#include <random>
+
+using meshfit::Point_3;
+using meshfit::Rbf_interpolant;
+using meshfit::Rbf_kernel;
+using meshfit::Vector_3;
+
+namespace {
+
+std::vector<Point_3> random_points(std::size_t n, unsigned seed, double scale = 1.0, Vector_3 shift = {0, 0, 0}) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<Point_3> p;
+  for (std::size_t i = 0; i < n; ++i) p.push_back(Point_3(u(rng), u(rng), u(rng)) + Vector_3(0, 0, 0));
+  for (auto& q : p) q = CGAL::ORIGIN + ((q - CGAL::ORIGIN) * scale + shift);
+  return p;
+}
+
+double max_relative_error(const std::vector<Point_3>& a, const std::vector<Point_3>& b, double scale) {
+  double e = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) e = std::max(e, std::sqrt(CGAL::squared_distance(a[i], b[i])) / scale);
+  return e;
+}
+
+// A smooth non-affine map to interpolate.
+Point_3 warp(const Point_3& p) {
+  return Point_3(p.x() + 0.3 * std::sin(2 * p.y()), 1.2 * p.y() + 0.2 * p.z() * p.x(), p.z() - 0.1 * p.x() * p.x());
+}
+
+}  // namespace
+
+TEST_CASE("rbf: the interpolant reproduces its centres", "[rbf]") {
+  for (Rbf_kernel k : {Rbf_kernel::linear, Rbf_kernel::cubic}) {
+    const auto c = random_points(300, 1);
+    std::vector<Point_3> v;
+    for (const auto& p : c) v.push_back(warp(p));
+    meshfit::Rbf_fit_report r;
+    const Rbf_interpolant E = Rbf_interpolant::fit(c, v, k, {}, &r);
+    CHECK(r.centres == 300);
+    CHECK(r.auxiliary_pairs == 0);
+    CHECK(r.relative_residual < 1e-12);
+    std::vector<Point_3> out;
+    E.evaluate(c, out);
+    CHECK(max_relative_error(out, v, 2.0) < 1e-12);
+    // Single-point evaluation and one thread agree with the parallel blocked path.
+    std::vector<Point_3> one;
+    E.evaluate(c, one, 1);
+    CHECK(max_relative_error(out, one, 2.0) < 1e-15);
+    CHECK(std::sqrt(CGAL::squared_distance(E(c[17]), v[17])) < 1e-12);
+  }
+}
+
+TEST_CASE("rbf: any affine map is reproduced exactly everywhere", "[rbf]") {
+  const auto c = random_points(50, 2);
+  auto A = [](const Point_3& p) {
+    return Point_3(2 * p.x() - p.y() + 0.5 * p.z() + 3, 0.1 * p.x() + p.y() - 7, -p.x() + 0.3 * p.y() + 4 * p.z() + 1e3);
+  };
+  std::vector<Point_3> v;
+  for (const auto& p : c) v.push_back(A(p));
+  for (Rbf_kernel k : {Rbf_kernel::linear, Rbf_kernel::cubic}) {
+    const Rbf_interpolant E = Rbf_interpolant::fit(c, v, k);
+    const auto q = random_points(1000, 3, 3.0);
+    std::vector<Point_3> out, expected;
+    E.evaluate(q, out);
+    for (const auto& p : q) expected.push_back(A(p));
+    CHECK(max_relative_error(out, expected, 1e3) < 1e-12);
+  }
+}
+
+TEST_CASE("rbf: results are invariant under translation by 1e8 and scaling by 1e-6", "[rbf]") {
+  const auto c = random_points(200, 4);
+  const auto q = random_points(500, 5);
+  std::vector<Point_3> v;
+  for (const auto& p : c) v.push_back(warp(p));
+  std::vector<Point_3> base;
+  Rbf_interpolant::fit(c, v).evaluate(q, base);
+  for (const auto& [scale, shift] : {std::pair<double, double>{1.0, 1e8}, {1e-6, 0.0}, {1e-6, 1e-3}}) {
+    auto T = [&](const Point_3& p) { return CGAL::ORIGIN + ((p - CGAL::ORIGIN) * scale + Vector_3(shift, -shift, shift)); };
+    std::vector<Point_3> tc, tv, tq, out;
+    for (const auto& p : c) tc.push_back(T(p));
+    for (const auto& p : v) tv.push_back(T(p));
+    for (const auto& p : q) tq.push_back(T(p));
+    Rbf_interpolant::fit(tc, tv).evaluate(tq, out);
+    std::vector<Point_3> back;
+    for (const auto& p : out) back.push_back(CGAL::ORIGIN + ((p - CGAL::ORIGIN) - Vector_3(shift, -shift, shift)) / scale);
+    INFO("scale " << scale << " shift " << shift);
+    // Translating by 1e8 leaves ~1e-8 of absolute precision in the coordinates themselves.
+    CHECK(max_relative_error(back, base, 2.0) < (shift >= 1e8 ? 1e-7 : 1e-9));
+  }
+}
+
+TEST_CASE("rbf: degenerate pair sets give their documented outcomes", "[rbf]") {
+  using meshfit_test::require_invalid;
+  const std::vector<Point_3> square = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0.5, 0.5, 0}};
+  std::vector<Point_3> lifted;
+  for (const auto& p : square) lifted.push_back(Point_3(2 * p.x(), p.y() + 1, 0.2 * p.x()));
+
+  SECTION("coplanar centres get auxiliary pairs along the normals") {
+    meshfit::Rbf_fit_report r;
+    const Rbf_interpolant E = Rbf_interpolant::fit(square, lifted, Rbf_kernel::linear,
+                                                   std::vector<Vector_3>(5, Vector_3(0, 0, 1)), &r);
+    CHECK(r.auxiliary_pairs == 5);
+    for (std::size_t i = 0; i < square.size(); ++i) CHECK(std::sqrt(CGAL::squared_distance(E(square[i]), lifted[i])) < 1e-12);
+    // Off the plane, points move as the plane does, offset along the normal.
+    const Point_3 above = E(Point_3(0.5, 0.5, 0.1));
+    CHECK(std::isfinite(above.z()));
+    CHECK(above.z() == Approx(0.2 * 0.5 + 0.1).margin(1e-9));
+  }
+  SECTION("coplanar centres without normals use the plane's normal") {
+    meshfit::Rbf_fit_report r;
+    Rbf_interpolant::fit(square, lifted, Rbf_kernel::linear, {}, &r);
+    CHECK(r.auxiliary_pairs == 5);
+  }
+  SECTION("normals lying in the plane fall back to the plane's normal") {
+    meshfit::Rbf_fit_report r;
+    const Rbf_interpolant E = Rbf_interpolant::fit(square, lifted, Rbf_kernel::linear,
+                                                   std::vector<Vector_3>(5, Vector_3(1, 0, 0)), &r);
+    CHECK(r.auxiliary_pairs == 5);
+    CHECK(std::sqrt(CGAL::squared_distance(E(square[2]), lifted[2])) < 1e-12);
+  }
+  SECTION("nearly coplanar centres are treated as coplanar") {
+    auto almost = square;
+    almost[4] = Point_3(0.5, 0.5, 1e-13);
+    meshfit::Rbf_fit_report r;
+    Rbf_interpolant::fit(almost, lifted, Rbf_kernel::linear, {}, &r);
+    CHECK(r.auxiliary_pairs == 5);
+  }
+  SECTION("collinear centres are rejected") {
+    require_invalid([] { Rbf_interpolant::fit({{0, 0, 0}, {1, 1, 1}, {2, 2, 2}, {3, 3, 3}}, {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}); },
+                    0, "collinear");
+  }
+  SECTION("three pairs are too few") {
+    require_invalid([] { Rbf_interpolant::fit({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}); },
+                    0, "at least 4");
+  }
+  SECTION("duplicates: identical pairs are dropped, conflicting ones rejected") {
+    std::vector<Point_3> c = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 0}};
+    std::vector<Point_3> v = {{0, 0, 0}, {2, 0, 0}, {0, 2, 0}, {0, 0, 2}, {2, 0, 0}};
+    meshfit::Rbf_fit_report r;
+    Rbf_interpolant::fit(c, v, Rbf_kernel::linear, {}, &r);
+    CHECK(r.repeated_pairs == 1);
+    CHECK(r.centres == 4);
+    v[4] = Point_3(3, 0, 0);
+    require_invalid([&] { Rbf_interpolant::fit(c, v); }, 0, "pairs 1 and 4 have the same centre but different values");
+  }
+  SECTION("non-finite values are rejected") {
+    std::vector<Point_3> c = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    std::vector<Point_3> v = c;
+    v[2] = Point_3(std::nan(""), 0, 0);
+    require_invalid([&] { Rbf_interpolant::fit(c, v); }, 0, "pair 2 has a non-finite coordinate");
+  }
+}
