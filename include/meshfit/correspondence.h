@@ -39,6 +39,35 @@ void validate_correspondences(const std::vector<Correspondence>& pairs,
                               const std::vector<Point_3>& template_points,
                               const Curve_network& network);
 
+/// The closest-point correspondences of thesis §2.1.
+struct Closest_point_assignment {
+  /// For each network vertex, its template vertex, or `unassigned`.
+  static constexpr std::size_t unassigned = static_cast<std::size_t>(-1);
+  std::vector<std::size_t> template_of;
+  /// Network vertices that lost their nearest template vertex to another one (sorted).
+  std::vector<std::size_t> losers;
+};
+
+/// What happens to a network vertex that loses its nearest template vertex to another.
+enum class Loser_rule {
+  drop,          ///< it stays unassigned (the thesis)
+  next_nearest   ///< it competes again for its nearest template vertex not yet taken
+};
+
+/// Pairs every network vertex with its nearest template vertex (a k-d tree: O(n log m)).
+/// `fixed` pairs (the user's) are kept as they are and their template vertices are taken by no
+/// one else. When several network vertices want the same template vertex, the winner is decided
+/// by, in order: a feature point beats a non-feature point; the nearer wins (exact distance
+/// comparison); the lower network index wins. Losers stay unassigned and are listed, or, with
+/// Loser_rule::next_nearest, compete again (same rules) for their nearest vertex not yet taken
+/// until every one has a vertex or none is left. Equidistant template vertices are resolved by
+/// the lower template index.
+/// 	hrows Invalid_input when a fixed pair's indices are out of range.
+Closest_point_assignment closest_point_correspondences(const std::vector<Point_3>& template_points,
+                                                       const Curve_network& network,
+                                                       const std::vector<Correspondence>& fixed = {},
+                                                       Loser_rule rule = Loser_rule::drop);
+
 /// Writes pairs in the format read_correspondences reads.
 void write_correspondences(const std::string& path, const std::vector<Correspondence>& pairs,
                            const Curve_network& network);

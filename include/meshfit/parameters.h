@@ -13,6 +13,11 @@
 //   | merge_tolerance   | double, relative to the bbox diagonal   | 1e-9                           |
 //   | progress          | callable bool(const Progress_step&)     | none (never cancels)           |
 //   | input_file_name   | std::string, used in error messages     | the path read, or "<stream>"   |
+//   | rbf_kernel        | meshfit::Rbf_kernel                     | Rbf_kernel::linear (φ(r) = r)  |
+//   | curve_density     | meshfit::Curve_density                  | Curve_density::refine          |
+//   | coarse_only       | bool: deform_template stops after coarse| false                          |
+// CGAL parameters meshfit reads: vertex_point_map; number_of_iterations (deform: the most flip
+// prevention rounds, default 10); face_patch_map and edge_is_constrained_map (io).
 #ifndef MESHFIT_PARAMETERS_H
 #define MESHFIT_PARAMETERS_H
 
@@ -38,6 +43,9 @@ namespace internal_np {
 enum merge_tolerance_t { merge_tolerance };
 enum progress_t { progress };
 enum input_file_name_t { input_file_name };
+enum rbf_kernel_t { rbf_kernel };
+enum curve_density_t { curve_density };
+enum coarse_only_t { coarse_only };
 }  // namespace internal_np
 
 namespace parameters {
@@ -60,6 +68,9 @@ namespace parameters {
 MESHFIT_NAMED_PARAMETER(merge_tolerance)
 MESHFIT_NAMED_PARAMETER(progress)
 MESHFIT_NAMED_PARAMETER(input_file_name)
+MESHFIT_NAMED_PARAMETER(rbf_kernel)
+MESHFIT_NAMED_PARAMETER(curve_density)
+MESHFIT_NAMED_PARAMETER(coarse_only)
 
 #undef MESHFIT_NAMED_PARAMETER
 

@@ -1,0 +1,106 @@
+#include <meshfit/correspondence.h>
+
+#include <CGAL/Orthogonal_incremental_neighbor_search.h>
+#include <CGAL/Search_traits_3.h>
+#include <CGAL/Search_traits_adapter.h>
+#include <CGAL/property_map.h>
+
+#include <algorithm>
+#include <numeric>
+
+namespace meshfit {
+
+namespace {
+
+using Point_map = CGAL::Pointer_property_map<Point_3>::const_type;
+using Traits = CGAL::Search_traits_adapter<std::size_t, Point_map, CGAL::Search_traits_3<Kernel>>;
+using Search = CGAL::Orthogonal_incremental_neighbor_search<Traits>;
+using Tree = Search::Tree;
+
+}  // namespace
+
+Closest_point_assignment closest_point_correspondences(const std::vector<Point_3>& pts,
+                                                       const Curve_network& network,
+                                                       const std::vector<Correspondence>& fixed,
+                                                       Loser_rule rule) {
+  const std::size_t n = network.number_of_vertices();
+  Closest_point_assignment result;
+  result.template_of.assign(n, Closest_point_assignment::unassigned);
+  std::vector<bool> reserved(pts.size(), false);
+  for (const Correspondence& c : fixed) {
+    if (c.template_vertex >= pts.size() || c.network_vertex >= n)
+      throw Invalid_input(c.where, "pair (" + std::to_string(c.template_vertex) + ", " +
+                                       std::to_string(c.network_vertex) + ") is out of range");
+    result.template_of[c.network_vertex] = c.template_vertex;
+    reserved[c.template_vertex] = true;
+  }
+
+  std::vector<std::size_t> free_vertices;
+  for (std::size_t i = 0; i < pts.size(); ++i)
+    if (!reserved[i]) free_vertices.push_back(i);
+  if (free_vertices.empty()) {
+    for (std::size_t v = 0; v < n; ++v)
+      if (result.template_of[v] == Closest_point_assignment::unassigned) result.losers.push_back(v);
+    return result;
+  }
+  const Point_map point_map(pts.data());
+  Tree tree(free_vertices.begin(), free_vertices.end(), Tree::Splitter(), Traits(point_map));
+  tree.build();
+
+  // Nearest template vertex not in `taken` of network vertex v; among equidistant ones the lowest
+  // index (the incremental search yields them in order of distance).
+  std::vector<bool> taken = reserved;
+  auto nearest_free = [&](std::size_t v) {
+    const Point_3& q = network.point(v);
+    Search search(tree, q, 0.0, true, Search::Distance(point_map));
+    std::size_t best = Closest_point_assignment::unassigned;
+    for (auto it = search.begin(); it != search.end(); ++it) {
+      if (taken[it->first]) continue;
+      if (best == Closest_point_assignment::unassigned) {
+        best = it->first;
+        continue;
+      }
+      const CGAL::Comparison_result c = CGAL::compare_distance_to_point(q, pts[it->first], pts[best]);
+      if (c == CGAL::LARGER) break;
+      if (c == CGAL::SMALLER || it->first < best) best = it->first;  // doubles may misorder near-ties
+    }
+    return best;
+  };
+
+  std::vector<std::size_t> pending;
+  for (std::size_t v = 0; v < n; ++v)
+    if (result.template_of[v] == Closest_point_assignment::unassigned) pending.push_back(v);
+  std::vector<std::size_t> wanted(n, Closest_point_assignment::unassigned);
+  do {
+    for (std::size_t v : pending) wanted[v] = nearest_free(v);
+    // Conflicts: feature points first, then nearer, then lower network index.
+    std::vector<std::size_t> order;
+    for (std::size_t v : pending)
+      if (wanted[v] != Closest_point_assignment::unassigned) order.push_back(v);
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+      if (wanted[a] != wanted[b]) return wanted[a] < wanted[b];
+      const bool fa = network.is_feature_point(a), fb = network.is_feature_point(b);
+      if (fa != fb) return fa;
+      const CGAL::Comparison_result c =
+          CGAL::compare_distance_to_point(pts[wanted[a]], network.point(a), network.point(b));
+      if (c != CGAL::EQUAL) return c == CGAL::SMALLER;
+      return a < b;
+    });
+    pending.clear();
+    for (std::size_t k = 0; k < order.size(); ++k) {
+      const std::size_t v = order[k];
+      if (k > 0 && wanted[order[k - 1]] == wanted[v]) {
+        pending.push_back(v);
+      } else {
+        result.template_of[v] = wanted[v];
+        taken[wanted[v]] = true;
+      }
+    }
+  } while (rule == Loser_rule::next_nearest && !pending.empty() &&
+           std::find(taken.begin(), taken.end(), false) != taken.end());
+  result.losers = pending;
+  std::sort(result.losers.begin(), result.losers.end());
+  return result;
+}
+
+}  // namespace meshfit
