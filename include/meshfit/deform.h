@@ -138,10 +138,10 @@ struct Deform_state {
     if (!is_border(o, tm)) CGAL::Euler::split_face(o, next(opposite(hnew, tm), tm), tm);
     return add_index(x);
   }
-  /// Inserts a vertex at `p`, the point of `f` nearest to some point: inside the face, on one of
-  /// its edges, or (when `p` is at a corner) at the centroid of `f`. The case is decided exactly in
-  /// the plane of `f`, and a split is made only when every new triangle is positively oriented.
-  std::size_t insert_near(face_descriptor f, const Point_3& p) {
+  /// A vertex at (or near) `p`, a point of face `f`: a new vertex inside the face or on one of its
+  /// edges, or, when `p` is near a corner, that corner if it is not `reserved` (else a new vertex
+  /// at the centroid of `f`). Returns its index.
+  std::size_t insert_near(face_descriptor f, const Point_3& p, const std::vector<bool>& reserved) {
     const auto c = corners(f);
     const Point_3 t[3] = {to_point(vertex[c[0]]), to_point(vertex[c[1]]), to_point(vertex[c[2]])};
     // Barycentric coordinates of p (a placement choice, not a geometric decision: whatever is
@@ -169,6 +169,11 @@ struct Deform_state {
       u = std::min(1 - margin, std::max(margin, u));
       return split_edge_at(h, pa + u * (pb - pa));
     }
+    // Near a corner: that corner is already (almost) at p; use it unless it is taken.
+    int corner = 0;
+    for (int k = 1; k < 3; ++k)
+      if (l[k] > l[corner]) corner = k;
+    if (c[corner] >= reserved.size() || !reserved[c[corner]]) return c[corner];
     return split_face(f);
   }
   Point_3 to_point(vertex_descriptor v) const {
@@ -289,51 +294,65 @@ Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
   Deformation_report report;
   report.user_pairs = pairs.size();
 
-  const std::vector<Correspondence>& fixed = pairs;
+  // Pairs kept from round to round: the user's, then those made for density and flips.
+  std::vector<Correspondence> fixed = pairs;
+  const std::size_t user_pairs = pairs.size();
   std::size_t refine_passes = 0;
+  const std::size_t max_refine_passes = 4;
 
-  // Inserts a vertex at the nearest surface point of each listed network vertex (one per face),
-  // and splits the `centroid_faces` at their centroids; returns the number of faces split.
-  auto insert_at_projections = [&](const std::vector<std::size_t>& network_vertices,
-                                   const std::vector<typename GT::face_descriptor>& centroid_faces) {
+  // Gives each listed network vertex a mesh vertex at its nearest point on the surface (one per
+  // face and call) and pins it there; splits `centroid_faces` at their centroids. Moving such a
+  // vertex onto its network vertex is a motion along the normal, which flips nothing. Returns
+  // the number of new vertices.
+  auto pin_at_projections = [&](const std::vector<std::size_t>& network_vertices,
+                                const std::vector<typename GT::face_descriptor>& centroid_faces) {
     using Primitive = CGAL::AABB_face_graph_triangle_primitive<TriangleMesh, decltype(vpm)>;
     using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
-    std::map<typename GT::face_descriptor, Point_3> at;
+    std::map<typename GT::face_descriptor, std::pair<std::size_t, Point_3>> at;
     if (!network_vertices.empty()) {
       Tree tree(faces(tm).first, faces(tm).second, tm, vpm);
       tree.accelerate_distance_queries();
       for (std::size_t v : network_vertices) {
         const auto hit = tree.closest_point_and_primitive(network.point(v));
-        at.emplace(hit.second, Point_3(hit.first.x(), hit.first.y(), hit.first.z()));
+        at.emplace(hit.second, std::make_pair(v, Point_3(hit.first.x(), hit.first.y(), hit.first.z())));
       }
     }
-    std::size_t split = 0;
-    for (const auto& [f, p] : at) {
-      s.insert_near(f, p);
-      ++split;
+    const std::size_t before_count = s.vertex.size();
+    std::vector<bool> reserved(s.vertex.size(), false);
+    for (const Correspondence& c : fixed) reserved[c.template_vertex] = true;
+    for (const auto& [f, vp] : at) {
+      const std::size_t t = s.insert_near(f, vp.second, reserved);
+      reserved.resize(s.vertex.size(), false);
+      reserved[t] = true;
+      // A network vertex pinned before is re-pinned (never one of the user's pairs).
+      const auto first_made = fixed.begin() + static_cast<std::ptrdiff_t>(user_pairs);
+      const auto it = std::find_if(first_made, fixed.end(),
+                                   [&](const Correspondence& c) { return c.network_vertex == vp.first; });
+      if (it != fixed.end()) fixed.erase(it);
+      if (std::any_of(fixed.begin(), first_made,
+                      [&](const Correspondence& c) { return c.network_vertex == vp.first; }))
+        continue;
+      Correspondence c;
+      c.template_vertex = t;
+      c.network_vertex = vp.first;
+      fixed.push_back(c);
     }
     for (auto f : centroid_faces)
-      if (!at.count(f)) {
-        s.split_face(f);
-        ++split;
-      }
-    return split;
+      if (!at.count(f)) s.split_face(f);
+    return s.vertex.size() - before_count;
   };
+
   std::vector<Point_3> moved;
   Closest_point_assignment assignment;
   for (std::size_t round = 0;; ++round) {
     internal::report_progress(progress, "fine: correspondences, RBF and flip detection", round, max_rounds);
     std::vector<Point_3> before = s.positions();
-    assignment = closest_point_correspondences(
-        before, network, fixed,
-        density == Curve_density::refine && refine_passes > 0 ? Loser_rule::next_nearest : Loser_rule::drop);
+    assignment = closest_point_correspondences(before, network, fixed);
 
-    if (!assignment.losers.empty() && density == Curve_density::refine && refine_passes == 0) {
-      // Each loser gets a vertex at its nearest point on the surface, and from then on losers
-      // take their next nearest free vertex: that new one, unless a nearer network vertex
-      // takes it first.
+    if (!assignment.losers.empty() && density == Curve_density::refine &&
+        refine_passes < max_refine_passes) {
       ++refine_passes;
-      report.vertices_inserted_for_density += insert_at_projections(assignment.losers, {});
+      report.vertices_inserted_for_density += pin_at_projections(assignment.losers, {});
       --round;  // refinement is not a flip round
       continue;
     }
@@ -367,10 +386,9 @@ Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
       break;
     }
     // Local subdivision (§2.3.2): a face flips because a paired corner is pulled across it
-    // towards its network vertex. A vertex inserted at that network vertex's nearest point on the
-    // surface is nearer to it than the corner, so the recomputed correspondences move the new
-    // vertex (along the normal) instead. Flipped faces with no paired corner are split at their
-    // centroid.
+    // towards its network vertex. That network vertex gets a vertex of its own at its nearest
+    // point on the surface (pin_at_projections), and the corner is released; the correspondences
+    // are then recomputed. Flipped faces with no paired corner are split at their centroid.
     std::vector<std::size_t> pulled;
     std::vector<typename GT::face_descriptor> unpaired;
     std::vector<std::size_t> network_of(s.vertex.size(), Closest_point_assignment::unassigned);
@@ -386,7 +404,8 @@ Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
     }
     std::sort(pulled.begin(), pulled.end());
     pulled.erase(std::unique(pulled.begin(), pulled.end()), pulled.end());
-    report.faces_subdivided += insert_at_projections(pulled, unpaired);
+    report.faces_subdivided += flipped.size();
+    pin_at_projections(pulled, unpaired);
   }
 
   s.set_positions(moved);
