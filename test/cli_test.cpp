@@ -69,7 +69,7 @@ TEST_CASE("cli: usage errors exit with status 2 and stages not yet built say so"
   CHECK(run(dir, "check --template").status == 2);
   CHECK(run(dir, "check --template a.off --curves c.txt").status == 2);
   CHECK(run(dir, "check --template a.off --curves c.txt --correspondences p.txt --bogus").status == 2);
-  for (const char* stage : {"fit", "deform", "partition", "smooth"}) {
+  for (const char* stage : {"fit", "partition", "smooth"}) {
     const Run_result r = run(dir, std::string(stage) + " --template a.off --output o.obj");
     CHECK(r.status == 2);
     CHECK(r.err.find("not available yet") != std::string::npos);
@@ -79,4 +79,48 @@ TEST_CASE("cli: usage errors exit with status 2 and stages not yet built say so"
   CHECK(missing.err.find("cannot open") != std::string::npos);
   CHECK(run(dir, "--help").status == 0);
   CHECK(run(dir, "--version").out.find("meshfit ") == 0);
+}
+
+TEST_CASE("cli: deform writes the deformed mesh and a report", "[cli][deform]") {
+  Temp_dir dir;
+  const std::string d = MESHFIT_EXAMPLE_DATA_DIR;
+  const std::string inputs = " --template " + q(d + "/template.off") + " --curves " + q(d + "/curves.polylines.txt") +
+                             " --correspondences " + q(d + "/pairs.txt");
+  SECTION("both levels") {
+    const Run_result r = run(dir, "deform" + inputs + " --output " + q(dir.file("out.ply")) + " --report " + q(dir.file("r.json")));
+    INFO(r.err);
+    CHECK(r.status == 0);
+    CHECK(r.err.find("meshfit: deform: ") != std::string::npos);
+    const meshfit::Mesh_data m = meshfit::read_mesh_data(dir.file("out.ply"));
+    CHECK(m.points.size() >= 2562);
+    const std::string json = read_text(dir.file("r.json"));
+    CHECK(json.find("\"flips_remaining\": 0") != std::string::npos);
+    CHECK(json.find("\"network_vertices_embedded\": 210") != std::string::npos);
+  }
+  SECTION("coarse only, quietly") {
+    const Run_result r = run(dir, "deform --quiet --coarse-only" + inputs + " --output " + q(dir.file("c.off")));
+    CHECK(r.status == 0);
+    CHECK(r.err.empty());
+    CHECK(meshfit::read_mesh_data(dir.file("c.off")).points.size() == 2562);
+  }
+  SECTION("flips left after the allowed rounds: status 3, report written, no output") {
+    const Run_result r = run(dir, "deform --max-rounds 1" + inputs + " --output " + q(dir.file("f.off")) + " --report " + q(dir.file("f.json")));
+    CHECK(r.status == 3);
+    CHECK(r.err.find("deform: ") != std::string::npos);
+    CHECK(r.err.find("still flip") != std::string::npos);
+    CHECK_FALSE(std::filesystem::exists(dir.file("f.off")));
+    CHECK(read_text(dir.file("f.json")).find("\"flips_remaining\": 0") == std::string::npos);
+  }
+  SECTION("the output may not be an input, and options are checked") {
+    const std::string copy = dir.write("t.off", read_text(d + "/template.off"));
+    const std::string args = " --template " + q(copy) + " --curves " + q(d + "/curves.polylines.txt") +
+                             " --correspondences " + q(d + "/pairs.txt");
+    const Run_result same = run(dir, "deform" + args + " --output " + q(copy));
+    CHECK(same.status == 1);
+    CHECK(same.err.find("refusing to overwrite an input") != std::string::npos);
+    CHECK(read_text(copy) == read_text(d + "/template.off"));
+    CHECK(run(dir, "deform" + args + " --output " + q(dir.file("o.off")) + " --kernel gaussian").status == 2);
+    CHECK(run(dir, "deform" + args + " --output " + q(dir.file("o.off")) + " --max-rounds 0").status == 2);
+    CHECK(run(dir, "deform" + args).status == 2);
+  }
 }

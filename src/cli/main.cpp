@@ -1,8 +1,19 @@
 // The meshfit command: subcommands and exit codes as fixed in DESIGN.md.
 //   0 success; 1 invalid input; 2 usage error; 3 the algorithm could not complete.
 #include <meshfit/check.h>
+#include <meshfit/deform.h>
 #include <meshfit/exceptions.h>
+#include <meshfit/io.h>
 #include <meshfit/version.h>
+
+#include "../write_file.h"
+
+#include <CGAL/Surface_mesh.h>
+
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
 
 #include <cstdlib>
 #include <iostream>
@@ -26,6 +37,13 @@ const char* const usage_text =
     "  --merge-tolerance X  curve points closer than X times the network's bounding-box diagonal\n"
     "                       are one network vertex (default 1e-9)\n"
     "  --quiet              no progress on stderr\n"
+    "deform options:\n"
+    "  --coarse-only        stop after the coarse level (RBF through the given pairs)\n"
+    "  --kernel K           RBF basis: linear (phi(r)=r, default) or cubic (phi(r)=r^3)\n"
+    "  --curve-density D    refine (default: every network vertex gets a mesh vertex) or drop\n"
+    "                       (the template keeps its size; network vertices that lose their\n"
+    "                       nearest template vertex are dropped and reported)\n"
+    "  --max-rounds N       flip prevention rounds at most (default 10)\n"
     "  --help, --version\n";
 
 struct Usage_error {
@@ -36,6 +54,7 @@ struct Command_line {
   std::string command;
   std::map<std::string, std::string> values;
   bool quiet = false;
+  bool coarse_only = false;
 };
 
 Command_line parse(int argc, char** argv) {
@@ -43,10 +62,12 @@ Command_line parse(int argc, char** argv) {
   if (argc < 2) throw Usage_error{"no command given"};
   cl.command = argv[1];
   static const char* const valued[] = {"--template", "--curves", "--correspondences", "--output",
-                                       "--report", "--merge-tolerance"};
+                                       "--report", "--merge-tolerance", "--kernel",
+                                       "--curve-density", "--max-rounds"};
   for (int i = 2; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--quiet") { cl.quiet = true; continue; }
+    if (arg == "--coarse-only") { cl.coarse_only = true; continue; }
     bool known = false;
     for (const char* v : valued) known = known || arg == v;
     if (!known) throw Usage_error{"unknown option '" + arg + "'"};
@@ -110,6 +131,121 @@ int run_check(const Command_line& cl) {
   return success;
 }
 
+std::string json_number(double v) {
+  if (!std::isfinite(v)) return "null";
+  std::ostringstream os;
+  os << std::setprecision(6) << v;
+  return os.str();
+}
+
+/// Smallest interior angle of the mesh's triangles, in degrees (a quality figure).
+double minimum_angle_degrees(const meshfit::Mesh_data& m) {
+  double best = 180;
+  for (const auto& t : m.triangles)
+    for (int k = 0; k < 3; ++k) {
+      const meshfit::Vector_3 a = m.points[t[(k + 1) % 3]] - m.points[t[k]];
+      const meshfit::Vector_3 b = m.points[t[(k + 2) % 3]] - m.points[t[k]];
+      const double la = std::sqrt(a.squared_length()), lb = std::sqrt(b.squared_length());
+      if (la > 0 && lb > 0) best = std::min(best, std::acos(std::max(-1.0, std::min(1.0, a * b / (la * lb)))) * 180 / CGAL_PI);
+      else best = 0;
+    }
+  return best;
+}
+
+int run_deform(const Command_line& cl) {
+  require(cl, {"--template", "--curves", "--correspondences", "--output"},
+          {"--report", "--merge-tolerance", "--kernel", "--curve-density", "--max-rounds"});
+  const std::string& template_path = cl.values.at("--template");
+  const std::string& curves_path = cl.values.at("--curves");
+  const std::string& pairs_path = cl.values.at("--correspondences");
+  const std::string& output = cl.values.at("--output");
+  const std::vector<std::string> inputs{template_path, curves_path, pairs_path};
+  meshfit::mesh_format_of(output);
+  meshfit::check_output_path(output, inputs);
+  std::string report_path;
+  if (cl.values.count("--report")) {
+    report_path = cl.values.at("--report");
+    meshfit::check_output_path(report_path, inputs);
+  }
+
+  meshfit::Rbf_kernel kernel = meshfit::Rbf_kernel::linear;
+  if (cl.values.count("--kernel")) {
+    const std::string& k = cl.values.at("--kernel");
+    if (k == "cubic") kernel = meshfit::Rbf_kernel::cubic;
+    else if (k != "linear") throw Usage_error{"--kernel must be linear or cubic, not '" + k + "'"};
+  }
+  meshfit::Curve_density density = meshfit::Curve_density::refine;
+  if (cl.values.count("--curve-density")) {
+    const std::string& d = cl.values.at("--curve-density");
+    if (d == "drop") density = meshfit::Curve_density::drop;
+    else if (d != "refine") throw Usage_error{"--curve-density must be refine or drop, not '" + d + "'"};
+  }
+  int rounds = 10;
+  if (cl.values.count("--max-rounds")) {
+    const std::string& r = cl.values.at("--max-rounds");
+    char* end = nullptr;
+    const long v = std::strtol(r.c_str(), &end, 10);
+    if (end == r.c_str() || *end != '\0' || v < 1 || v > 1000)
+      throw Usage_error{"--max-rounds needs an integer from 1 to 1000, not '" + r + "'"};
+    rounds = static_cast<int>(v);
+  }
+
+  using Mesh = CGAL::Surface_mesh<meshfit::Point_3>;
+  Mesh tm;
+  const auto t0 = std::chrono::steady_clock::now();
+  meshfit::read_triangle_mesh(template_path, tm);
+  const meshfit::Curve_network network = meshfit::read_curve_network(curves_path, merge_tolerance(cl));
+  const auto pairs = meshfit::read_correspondences(pairs_path, network);
+  // Coplanar pairs are accepted here: the RBF adds auxiliary pairs (see Rbf_interpolant::fit).
+  const double read_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+  const bool quiet = cl.quiet;
+  auto progress = [quiet](const meshfit::Progress_step& s) {
+    if (!quiet) std::cerr << "meshfit: " << s.stage << ": " << s.step << " (" << s.index + 1 << "/" << s.total << ")\n";
+    return true;
+  };
+  const meshfit::Deformation_report r = meshfit::deform_template(
+      tm, network, pairs,
+      meshfit::parameters::rbf_kernel(kernel, meshfit::parameters::curve_density(
+          density, meshfit::parameters::coarse_only(cl.coarse_only, meshfit::parameters::progress(
+              progress, CGAL::parameters::number_of_iterations(rounds))))));
+  const meshfit::Mesh_data out = meshfit::to_mesh_data(tm);
+
+  if (!report_path.empty()) {
+    std::size_t embedded = 0;
+    for (std::size_t v : r.mesh_vertex_of_network_vertex) embedded += v != meshfit::Closest_point_assignment::unassigned;
+    std::ostringstream js;
+    js << "{\n  \"command\": \"deform\",\n  \"meshfit_version\": \"" << MESHFIT_VERSION_STRING << "\",\n"
+       << "  \"timings_s\": {\"read\": " << json_number(read_s) << ", \"coarse\": " << json_number(r.coarse_seconds)
+       << ", \"fine\": " << json_number(r.fine_seconds) << "},\n"
+       << "  \"counts\": {\"correspondences\": " << r.user_pairs << ", \"coarse_auxiliary_pairs\": "
+       << r.coarse_fit.auxiliary_pairs << ", \"fine_pairs\": " << r.fine_pairs << ", \"flip_rounds\": " << r.flip_rounds
+       << ", \"flips_found\": " << r.flips_found << ", \"flips_fixed\": " << (r.flips_found - r.remaining_flips)
+       << ", \"flips_remaining\": " << r.remaining_flips << ", \"faces_subdivided\": " << r.faces_subdivided
+       << ", \"vertices_inserted_for_density\": " << r.vertices_inserted_for_density
+       << ", \"network_vertices\": " << network.number_of_vertices() << ", \"network_vertices_embedded\": " << embedded
+       << ", \"network_vertices_dropped\": " << r.dropped_network_vertices.size() << "},\n"
+       << "  \"residuals\": {\"coarse\": " << json_number(r.coarse_fit.relative_residual) << ", \"fine\": "
+       << json_number(r.fine_fit.relative_residual) << "},\n"
+       << "  \"quality\": {\"vertices\": " << out.points.size() << ", \"faces\": " << out.triangles.size()
+       << ", \"minimum_angle_deg\": " << json_number(minimum_angle_degrees(out)) << "}\n}\n";
+    const std::string text = js.str();
+    meshfit::internal::write_file_atomically(report_path, [&](std::ostream& os) { os << text; });
+  }
+  if (r.remaining_flips > 0)
+    throw meshfit::Algorithm_failure(
+        "deform", std::to_string(r.remaining_flips) + " faces still flip after " + std::to_string(r.flip_rounds) +
+                      " rounds of flip prevention (raise --max-rounds, or give more correspondences so that the "
+                      "coarse level brings the template closer to the curves)");
+  meshfit::Write_options options;
+  options.protected_paths = inputs;
+  meshfit::write_mesh_data(output, out, options);
+  if (!quiet)
+    std::cerr << "meshfit: deform: wrote " << output << " (" << out.points.size() << " vertices, "
+              << out.triangles.size() << " faces)\n";
+  return success;
+}
+
 int not_available(const Command_line& cl, const char* stage) {
   std::cerr << "meshfit " << cl.command << ": not available yet: " << stage
             << " is not implemented in meshfit " << MESHFIT_VERSION_STRING << "\n";
@@ -131,7 +267,7 @@ int main(int argc, char** argv) {
     const Command_line cl = parse(argc, argv);
     if (cl.command == "check") return run_check(cl);
     if (cl.command == "fit") return not_available(cl, "the full pipeline");
-    if (cl.command == "deform") return not_available(cl, "stage 1 (global deformation)");
+    if (cl.command == "deform") return run_deform(cl);
     if (cl.command == "partition") return not_available(cl, "stage 2 (partitioning)");
     if (cl.command == "smooth") return not_available(cl, "stage 3 (smoothing)");
     throw Usage_error{"unknown command '" + cl.command + "'"};
