@@ -2,7 +2,9 @@
 
 #include "test_helpers.h"
 
+#include <fstream>
 #include <random>
+#include <sstream>
 
 using meshfit::Point_3;
 using meshfit::Rbf_interpolant;
@@ -153,4 +155,53 @@ TEST_CASE("rbf: degenerate pair sets give their documented outcomes", "[rbf]") {
     v[2] = Point_3(std::nan(""), 0, 0);
     require_invalid([&] { Rbf_interpolant::fit(c, v); }, 0, "pair 2 has a non-finite coordinate");
   }
+}
+
+TEST_CASE("rbf: agrees with SciPy's RBFInterpolator to 1e-9", "[rbf][reference]") {
+  // test/data/rbf_reference.txt is written by test/data/make_rbf_reference.py (SciPy).
+  std::ifstream in(MESHFIT_TEST_DATA_DIR "/rbf_reference.txt");
+  REQUIRE(in);
+  std::string line, word;
+  std::vector<Point_3> c, v;
+  auto next_data = [&]() {
+    while (std::getline(in, line))
+      if (!line.empty() && line[0] != '#') return true;
+    return false;
+  };
+  REQUIRE(next_data());
+  std::size_t n = 0;
+  std::istringstream(line) >> word >> n;
+  REQUIRE(word == "centres");
+  for (std::size_t i = 0; i < n; ++i) {
+    REQUIRE(next_data());
+    std::istringstream s(line);
+    double a[6];
+    for (double& x : a) s >> x;
+    c.emplace_back(a[0], a[1], a[2]);
+    v.emplace_back(a[3], a[4], a[5]);
+  }
+  std::size_t kernels = 0;
+  while (next_data()) {
+    std::size_t m = 0;
+    std::string name;
+    std::istringstream(line) >> word >> name >> m;
+    REQUIRE(word == "kernel");
+    const Rbf_interpolant E = Rbf_interpolant::fit(c, v, name == "cubic" ? Rbf_kernel::cubic : Rbf_kernel::linear);
+    std::vector<Point_3> q, expected, out;
+    for (std::size_t i = 0; i < m; ++i) {
+      REQUIRE(next_data());
+      std::istringstream s(line);
+      double a[6];
+      for (double& x : a) s >> x;
+      q.emplace_back(a[0], a[1], a[2]);
+      expected.emplace_back(a[3], a[4], a[5]);
+    }
+    E.evaluate(q, out);
+    double scale = 0;
+    for (const auto& p : expected) scale = std::max({scale, std::abs(p.x()), std::abs(p.y()), std::abs(p.z())});
+    INFO("kernel " << name);
+    CHECK(max_relative_error(out, expected, scale) < 1e-9);
+    ++kernels;
+  }
+  CHECK(kernels == 2);
 }
