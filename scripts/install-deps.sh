@@ -4,7 +4,7 @@
 set -euo pipefail
 
 packages=(g++ cmake make libcgal-dev libeigen3-dev libboost-dev libgmp-dev libmpfr-dev catch2
-          libcgal-demo)
+          libcgal-demo libopenblas-dev liblapacke-dev)
 
 missing=()
 for p in "${packages[@]}"; do

@@ -4,6 +4,10 @@
 
 #include <Eigen/Dense>
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -16,6 +20,32 @@ const char* to_string(Rbf_kernel kernel) {
 }
 
 namespace {
+
+/// Evaluates `count` points in blocks on `threads` threads (0: all): `load(i, x, y, z)` gives the
+/// normalised point i, `store(i, x, y, z, sx, sy, sz)` receives it with its RBF sums. All points of
+/// a block are loaded before any of them is stored, so the output may overwrite the input.
+template <typename Load, typename Store>
+void rbf_evaluate_blocks(const internal::Rbf_arrays& a, std::size_t count, unsigned threads, Load load, Store store) {
+  const std::ptrdiff_t blocks = static_cast<std::ptrdiff_t>((count + internal::rbf_block - 1) / internal::rbf_block);
+  int nt = 1;
+#ifdef _OPENMP
+  nt = threads == 0 ? omp_get_max_threads() : static_cast<int>(threads);
+  nt = static_cast<int>(std::min<std::ptrdiff_t>(nt, std::max<std::ptrdiff_t>(blocks, 1)));
+#else
+  (void)threads;
+#endif
+#pragma omp parallel for schedule(dynamic, 4) num_threads(nt)
+  for (std::ptrdiff_t b = 0; b < blocks; ++b) {
+    alignas(64) double px[internal::rbf_block], py[internal::rbf_block], pz[internal::rbf_block], sx[internal::rbf_block], sy[internal::rbf_block],
+        sz[internal::rbf_block];
+    const std::size_t first = static_cast<std::size_t>(b) * internal::rbf_block;
+    const std::size_t m = std::min(internal::rbf_block, count - first);
+    for (std::size_t i = 0; i < m; ++i) load(first + i, px[i], py[i], pz[i]);
+    internal::rbf_sum_block(a, px, py, pz, m, sx, sy, sz);
+    for (std::size_t i = 0; i < m; ++i) store(first + i, px[i], py[i], pz[i], sx[i], sy[i], sz[i]);
+  }
+}
+
 
 bool finite(const Point_3& p) {
   return std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z());
@@ -216,13 +246,13 @@ Point_3 Rbf_interpolant::operator()(const Point_3& p) const {
 
 void Rbf_interpolant::evaluate(const std::vector<Point_3>& in, std::vector<Point_3>& out,
                                unsigned threads) const {
-  internal::Rbf_arrays a{m_kernel, m_cx.data(), m_cy.data(), m_cz.data(), m_ax.data(), m_ay.data(),
+  const internal::Rbf_arrays a{m_kernel, m_cx.data(), m_cy.data(), m_cz.data(), m_ax.data(), m_ay.data(),
                          m_az.data(), m_cx.size()};
   const double s_in = m_scale_in, s_out = m_scale_out;
   const Vector_3 shift_in = m_shift_in, shift_out = m_shift_out;
   const auto& A = m_affine;
   out.resize(in.size());
-  internal::rbf_evaluate_blocks(
+  rbf_evaluate_blocks(
       a, in.size(), threads,
       [&](std::size_t i, double& x, double& y, double& z) {
         x = (in[i].x() - shift_in.x()) * s_in;

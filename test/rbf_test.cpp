@@ -1,5 +1,6 @@
 #include <meshfit/rbf.h>
 
+#include "../src/rbf_evaluate.h"
 #include "test_helpers.h"
 
 #include <fstream>
@@ -204,4 +205,30 @@ TEST_CASE("rbf: agrees with SciPy's RBFInterpolator to 1e-9", "[rbf][reference]"
     ++kernels;
   }
   CHECK(kernels == 2);
+}
+
+TEST_CASE("rbf: the fast kernel agrees with the portable one", "[rbf]") {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const std::size_t n = 333, m = 250;  // not multiples of the vector width
+  std::vector<double> c[3], w[3], p[3], fast[3], slow[3];
+  for (int d = 0; d < 3; ++d) {
+    for (std::size_t j = 0; j < n; ++j) { c[d].push_back(u(rng)); w[d].push_back(u(rng)); }
+    for (std::size_t i = 0; i < m; ++i) p[d].push_back(u(rng));
+    p[d][7] = c[d][5];  // a point exactly on a centre: r = 0
+    fast[d].assign(m, 0);
+    slow[d].assign(m, 0);
+  }
+  for (Rbf_kernel k : {Rbf_kernel::linear, Rbf_kernel::cubic}) {
+    const meshfit::internal::Rbf_arrays a{k, c[0].data(), c[1].data(), c[2].data(), w[0].data(), w[1].data(), w[2].data(), n};
+    meshfit::internal::rbf_sum_block(a, p[0].data(), p[1].data(), p[2].data(), m, fast[0].data(), fast[1].data(), fast[2].data());
+    meshfit::internal::rbf_sum_block_portable(a, p[0].data(), p[1].data(), p[2].data(), m, slow[0].data(), slow[1].data(), slow[2].data());
+    double err = 0;
+    for (int d = 0; d < 3; ++d)
+      for (std::size_t i = 0; i < m; ++i) {
+        REQUIRE(std::isfinite(fast[d][i]));
+        err = std::max(err, std::abs(fast[d][i] - slow[d][i]));
+      }
+    CHECK(err < 1e-12);
+  }
 }

@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# Runs meshfit's benchmarks beside their peers in one run and prints a comparison table:
+#   - RBF fit + evaluation against SciPy's RBFInterpolator (same kernel, degree 1, same data),
+#     n centres x m points, with the largest difference of the results;
+#   - closest-point correspondences (k-d tree) against brute force.
+# Installs what it needs (Debian's python3-scipy on OpenBLAS). Usage: bench/run_benchmarks.sh [build-dir]
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+build="${1:-$root/build}"
+"$root/scripts/install-deps.sh"
+need=()
+for p in python3-scipy python3-numpy python3-threadpoolctl libopenblas0-pthread; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || need+=("$p")
+done
+if [ ${#need[@]} -gt 0 ]; then
+  sudo_cmd=(); [ "$(id -u)" -ne 0 ] && sudo_cmd=(sudo)
+  DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${need[@]}" >/dev/null
+fi
+"$root/scripts/build.sh" "$build" >/dev/null
+
+py=/usr/bin/python3   # Debian's python, where python3-scipy lives
+data="$(mktemp -d)"
+trap 'rm -rf "$data"' EXIT
+kernel=linear
+
+echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//')"
+echo "scipy: $($py -c 'import scipy; print(scipy.__version__)'), BLAS: $($py "$root/bench/rbf_scipy.py" blas)"
+echo
+echo "| n centres | m points | meshfit fit s | meshfit eval s | ns/pair/core | SciPy fit s | SciPy eval s | SciPy/meshfit (total) | max rel diff |"
+echo "|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+for n in 500 2000 5000; do
+  for m in 100000 1000000; do
+    $py "$root/bench/rbf_scipy.py" generate "$data" "$n" "$m"
+    ours=$("$build/bench/rbf_bench" "$n" "$m" "$kernel" "$data")
+    theirs=$($py "$root/bench/rbf_scipy.py" run "$data" "$n" "$m" "$kernel")
+    diff=$($py "$root/bench/rbf_scipy.py" compare "$data" "$n" "$m")
+    field() { echo "$1" | tr ' ' '\n' | grep "^$2=" | cut -d= -f2; }
+    of=$(field "$ours" fit_s); oe=$(field "$ours" eval_s); ns=$(field "$ours" ns_per_pair_core)
+    sf=$(field "$theirs" fit_s); se=$(field "$theirs" eval_s); rel=$(field "$diff" max_rel)
+    ratio=$(awk -v a="$of" -v b="$oe" -v c="$sf" -v d="$se" 'BEGIN { printf "%.1fx", (c + d) / (a + b) }')
+    echo "| $n | $m | $of | $oe | $ns | $sf | $se | $ratio | $rel |"
+    rm -f "$data"/*.bin
+  done
+done
+echo
+echo "| closest point | k-d tree s | brute force s (all cores) | brute/tree | agreement |"
+echo "|---|---:|---:|---:|---:|"
+line=$("$build/bench/closest_point_bench" 20000 1000000)
+field() { echo "$1" | tr ' ' '\n' | grep "^$2=" | cut -d= -f2; }
+t=$(field "$line" tree_s); b=$(field "$line" brute_s); a=$(field "$line" agree)
+echo "| n=20000, m=1000000 | $t | $b | $(awk -v t="$t" -v b="$b" 'BEGIN { printf "%.1fx", b / t }') | $a |"
