@@ -12,7 +12,7 @@ jobs="$(nproc)"
 
 if [ "${MESHFIT_SKIP_SANITIZE:-0}" != 1 ]; then
   "$root/scripts/build.sh" "$root/build-asan" -DMESHFIT_SANITIZE=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-    -DMESHFIT_BUILD_EXAMPLES=OFF
+    -DMESHFIT_BUILD_EXAMPLES=OFF -DMESHFIT_BUILD_BENCHMARKS=OFF
   (cd "$root/build-asan" && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
      UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
      ctest --output-on-failure --parallel "$jobs" -E install_and_consume)

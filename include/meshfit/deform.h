@@ -52,9 +52,10 @@ struct Deformation_report {
   std::size_t fine_pairs = 0;              ///< pairs of the final fine RBF (user + closest point + refined)
   std::size_t flip_rounds = 0;             ///< rounds of detection (1 when nothing flipped)
   std::size_t flips_found = 0;             ///< flipped or degenerate faces found, over all rounds
-  std::size_t faces_subdivided = 0;        ///< by flip prevention
+  std::size_t faces_subdivided = 0;        ///< faces split by flip prevention
   std::size_t remaining_flips = 0;         ///< after the last round: non-zero means failure
   std::size_t vertices_inserted_for_density = 0;  ///< Curve_density::refine
+  std::size_t vertices_inserted_for_flips = 0;    ///< by flip prevention
   std::vector<std::size_t> dropped_network_vertices;  ///< Curve_density::drop: not represented
   Rbf_fit_report fine_fit;
   double fine_seconds = 0;
@@ -110,6 +111,8 @@ struct Deform_state {
     return c;
   }
   using Point = typename boost::property_traits<VPM>::value_type;
+  std::size_t faces_split = 0;  ///< by the split functions below
+
   std::size_t add_index(vertex_descriptor v) {
     put(index, v, vertex.size());
     vertex.push_back(v);
@@ -119,6 +122,7 @@ struct Deform_state {
   std::size_t split_face_at(face_descriptor f, const Point_3& p) {
     const auto h = CGAL::Euler::add_center_vertex(halfedge(f, tm), tm);
     put(vpm, target(h, tm), Point(p.x(), p.y(), p.z()));
+    ++faces_split;
     return add_index(target(h, tm));
   }
   /// Splits `f` at its centroid; returns the new vertex's index.
@@ -133,9 +137,15 @@ struct Deform_state {
     const auto hnew = CGAL::Euler::split_edge(h, tm);  // source(h) -> new vertex -> target(h)
     const vertex_descriptor x = target(hnew, tm);
     put(vpm, x, Point(p.x(), p.y(), p.z()));
-    if (!is_border(hnew, tm)) CGAL::Euler::split_face(hnew, next(h, tm), tm);
+    if (!is_border(hnew, tm)) {
+      CGAL::Euler::split_face(hnew, next(h, tm), tm);
+      ++faces_split;
+    }
     const auto o = opposite(h, tm);
-    if (!is_border(o, tm)) CGAL::Euler::split_face(o, next(opposite(hnew, tm), tm), tm);
+    if (!is_border(o, tm)) {
+      CGAL::Euler::split_face(o, next(opposite(hnew, tm), tm), tm);
+      ++faces_split;
+    }
     return add_index(x);
   }
   /// A vertex at (or near) `p`, a point of face `f`: a new vertex inside the face or on one of its
@@ -265,13 +275,14 @@ Deformation_report deform_coarse(TriangleMesh& tm, const Curve_network& network,
 
 /// Fine level, on a template already roughly in place (deform_coarse): pairs every network vertex
 /// with its nearest template vertex (user `pairs` are kept), fits an RBF through all pairs and
-/// moves the template so that each paired vertex lies exactly on its network vertex. Faces the
-/// motion would flip (exact flip counter, judged against the positions before this call) are split
-/// at their centroid and everything is redone, for at most `number_of_iterations` rounds
-/// (default 10); `report.remaining_flips` tells whether that was enough. With
+/// moves the template so that each paired vertex lies exactly on its network vertex. When the
+/// motion would flip faces (exact flip counter, judged against the positions before this call),
+/// the network vertices pulling them get mesh vertices of their own at their nearest points on the
+/// surface (local subdivision), and everything is redone, for at most `number_of_iterations`
+/// rounds (default 10); `report.remaining_flips` tells whether that was enough. With
 /// Curve_density::refine (default) network vertices that lost their nearest template vertex get a
-/// new one by splitting their nearest face; with Curve_density::drop they are dropped (reported).
-/// New vertices come after the existing ones. Named parameters: `vertex_point_map`, `rbf_kernel`,
+/// vertex the same way; with Curve_density::drop they are dropped (reported), and only flip
+/// prevention adds vertices. New vertices come after the existing ones. Named parameters: `vertex_point_map`, `rbf_kernel`,
 /// `curve_density`, `number_of_iterations`, `progress`.
 template <typename TriangleMesh, typename NamedParameters = CGAL::parameters::Default_named_parameters>
 Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
@@ -404,8 +415,9 @@ Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
     }
     std::sort(pulled.begin(), pulled.end());
     pulled.erase(std::unique(pulled.begin(), pulled.end()), pulled.end());
-    report.faces_subdivided += flipped.size();
-    pin_at_projections(pulled, unpaired);
+    const std::size_t split_before = s.faces_split;
+    report.vertices_inserted_for_flips += pin_at_projections(pulled, unpaired);
+    report.faces_subdivided += s.faces_split - split_before;
   }
 
   s.set_positions(moved);

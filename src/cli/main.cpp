@@ -223,6 +223,7 @@ int run_deform(const Command_line& cl) {
        << ", \"flips_found\": " << r.flips_found << ", \"flips_fixed\": " << (r.flips_found - r.remaining_flips)
        << ", \"flips_remaining\": " << r.remaining_flips << ", \"faces_subdivided\": " << r.faces_subdivided
        << ", \"vertices_inserted_for_density\": " << r.vertices_inserted_for_density
+       << ", \"vertices_inserted_for_flips\": " << r.vertices_inserted_for_flips
        << ", \"network_vertices\": " << network.number_of_vertices() << ", \"network_vertices_embedded\": " << embedded
        << ", \"network_vertices_dropped\": " << r.dropped_network_vertices.size() << "},\n"
        << "  \"residuals\": {\"coarse\": " << json_number(r.coarse_fit.relative_residual) << ", \"fine\": "
