@@ -27,7 +27,7 @@ for t in "${targets[@]}"; do
   mkdir -p "$build/corpus/$t" "$root/fuzz/reproducers/$t"
   echo "== $t ($seconds s)"
   UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 ASAN_OPTIONS=detect_leaks=1 \
-    "$build/fuzz_$t" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
+    "$build/fuzz/fuzz_$t" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
     -artifact_prefix="$root/fuzz/reproducers/$t/" -print_final_stats=1 \
     "$build/corpus/$t" "$root/fuzz/corpus/$t" 2>&1 | grep -E "stat::number_of_executed_units|Done|ERROR|SUMMARY|crash-|timeout-|oom-" || true
 done

@@ -1,5 +1,6 @@
 #include <meshfit/rbf.h>
 
+#include "fp_traps.h"
 #include "rbf_evaluate.h"
 
 #include <Eigen/Dense>
@@ -34,7 +35,10 @@ void rbf_evaluate_blocks(const internal::Rbf_arrays& a, std::size_t count, unsig
 #else
   (void)threads;
 #endif
-#pragma omp parallel for schedule(dynamic, 4) num_threads(nt)
+#pragma omp parallel num_threads(nt)
+  {
+  internal::Fp_trap_scope traps;  // per thread: the floating-point environment is per thread
+#pragma omp for schedule(dynamic, 4)
   for (std::ptrdiff_t b = 0; b < blocks; ++b) {
     alignas(64) double px[internal::rbf_block], py[internal::rbf_block], pz[internal::rbf_block], sx[internal::rbf_block], sy[internal::rbf_block],
         sz[internal::rbf_block];
@@ -43,6 +47,7 @@ void rbf_evaluate_blocks(const internal::Rbf_arrays& a, std::size_t count, unsig
     for (std::size_t i = 0; i < m; ++i) load(first + i, px[i], py[i], pz[i]);
     internal::rbf_sum_block(a, px, py, pz, m, sx, sy, sz);
     for (std::size_t i = 0; i < m; ++i) store(first + i, px[i], py[i], pz[i], sx[i], sy[i], sz[i]);
+  }
   }
 }
 
@@ -106,6 +111,7 @@ bool all_coplanar_exact(const std::vector<Point_3>& pts) {
 Rbf_interpolant Rbf_interpolant::fit(const std::vector<Point_3>& centres_in,
                                      const std::vector<Point_3>& values_in, Rbf_kernel kernel,
                                      const std::vector<Vector_3>& normals_in, Rbf_fit_report* report) {
+  internal::Fp_trap_scope traps;
   if (centres_in.size() != values_in.size())
     throw Invalid_input("RBF: " + std::to_string(centres_in.size()) + " centres but " +
                         std::to_string(values_in.size()) + " values");
@@ -158,8 +164,10 @@ Rbf_interpolant Rbf_interpolant::fit(const std::vector<Point_3>& centres_in,
   }
 
   // Coplanar (exactly or nearly): add auxiliary pairs off the plane.
-  auto [centre_shift, centre_diag] = frame_of(centres);
-  auto [ratio, thin] = affine_conditioning(centres, centre_shift, 1.0 / centre_diag);
+  Vector_3 centre_shift, thin;
+  double centre_diag = 0, ratio = 0;
+  std::tie(centre_shift, centre_diag) = frame_of(centres);
+  std::tie(ratio, thin) = affine_conditioning(centres, centre_shift, 1.0 / centre_diag);
   std::size_t auxiliary = 0;
   if (all_coplanar_exact(centres) || ratio < rbf_coplanarity_bound) {
     const double h = 0.1 * centre_diag;

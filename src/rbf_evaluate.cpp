@@ -26,7 +26,9 @@ void sum_block_portable(const Rbf_arrays& a, const double* __restrict px, const 
   for (std::size_t j = 0; j < a.n; ++j) {
     const double cx = a.cx[j], cy = a.cy[j], cz = a.cz[j];
     const double ax = a.ax[j], ay = a.ay[j], az = a.az[j];
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC ivdep
+#endif
     for (std::size_t i = 0; i < count; ++i) {
       const double dx = px[i] - cx, dy = py[i] - cy, dz = pz[i] - cz;
       double w = std::sqrt(dx * dx + dy * dy + dz * dz);
@@ -66,14 +68,16 @@ __attribute__((target("avx512f"))) void sum_block_avx512(const Rbf_arrays& a, co
       for (int u = 0; u < 2; ++u) {
         const __m512d dx = _mm512_sub_pd(x[u], cx), dy = _mm512_sub_pd(y[u], cy), dz = _mm512_sub_pd(z[u], cz);
         const __m512d r2 = _mm512_fmadd_pd(dz, dz, _mm512_fmadd_pd(dy, dy, _mm512_mul_pd(dx, dx)));
-        // 1/sqrt(r2): 14-bit estimate, two Newton steps y += y/2 (1 - r2 y²) -> ~52 bits.
-        __m512d s = _mm512_maskz_rsqrt14_pd(static_cast<__mmask8>(0xFF), r2);  // (no undefined lanes)
+        // 1/sqrt(r2): 14-bit estimate, two Newton steps y += y/2 (1 - r2 y²) -> ~52 bits. Lanes
+        // where r2 is zero keep s = 0 (not inf), so no 0·inf is ever computed.
+        const __mmask8 nonzero = _mm512_cmp_pd_mask(r2, tiny, _CMP_GE_OQ);
+        __m512d s = _mm512_maskz_rsqrt14_pd(nonzero, r2);
         for (int k = 0; k < 2; ++k) {
           const __m512d e = _mm512_fnmadd_pd(_mm512_mul_pd(r2, s), s, one);
           s = _mm512_fmadd_pd(_mm512_mul_pd(s, half), e, s);
         }
-        // r = r2 / sqrt(r2); zero (not 0·inf) where r2 is zero.
-        __m512d r = _mm512_maskz_mul_pd(_mm512_cmp_pd_mask(r2, tiny, _CMP_GE_OQ), r2, s);
+        // r = r2 / sqrt(r2) (zero where r2 is).
+        __m512d r = _mm512_mul_pd(r2, s);
         if (Cubic) r = _mm512_mul_pd(r, r2);
         ax[u] = _mm512_fmadd_pd(wx, r, ax[u]);
         ay[u] = _mm512_fmadd_pd(wy, r, ay[u]);

@@ -332,20 +332,21 @@ Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
     std::vector<bool> reserved(s.vertex.size(), false);
     for (const Correspondence& c : fixed) reserved[c.template_vertex] = true;
     for (const auto& [f, vp] : at) {
+      const std::size_t network_vertex = vp.first;  // (lambdas cannot capture structured bindings)
       const std::size_t t = s.insert_near(f, vp.second, reserved);
       reserved.resize(s.vertex.size(), false);
       reserved[t] = true;
       // A network vertex pinned before is re-pinned (never one of the user's pairs).
       const auto first_made = fixed.begin() + static_cast<std::ptrdiff_t>(user_pairs);
       const auto it = std::find_if(first_made, fixed.end(),
-                                   [&](const Correspondence& c) { return c.network_vertex == vp.first; });
+                                   [&](const Correspondence& c) { return c.network_vertex == network_vertex; });
       if (it != fixed.end()) fixed.erase(it);
       if (std::any_of(fixed.begin(), first_made,
-                      [&](const Correspondence& c) { return c.network_vertex == vp.first; }))
+                      [&](const Correspondence& c) { return c.network_vertex == network_vertex; }))
         continue;
       Correspondence c;
       c.template_vertex = t;
-      c.network_vertex = vp.first;
+      c.network_vertex = network_vertex;
       fixed.push_back(c);
     }
     for (auto f : centroid_faces)
