@@ -221,6 +221,15 @@ Rbf_interpolant Rbf_interpolant::fit(const std::vector<Point_3>& centres_in,
     for (int k = 0; k < 4; ++k) K(i, n + k) = K(n + k, i) = row[k];
   }
   const Eigen::PartialPivLU<Eigen::MatrixXd> lu(K);
+  // A (numerically) singular system would divide by a zero pivot: centres that nearly coincide,
+  // or a degenerate configuration the exact tests above let through.
+  const auto pivots = lu.matrixLU().diagonal().cwiseAbs();
+  const double pivot_ratio = pivots.maxCoeff() > 0 ? pivots.minCoeff() / pivots.maxCoeff() : 0.0;
+  const double rcond = pivot_ratio > rbf_rcond_bound ? lu.rcond() : 0.0;  // (a zero pivot would trap)
+  if (!(rcond > rbf_rcond_bound))
+    throw Numerical_error("RBF: the " + std::to_string(n + 4) + "×" + std::to_string(n + 4) +
+                          " system is singular (reciprocal condition number " + std::to_string(rcond) +
+                          "): some centres nearly coincide");
   const Eigen::MatrixXd X = lu.solve(Y);
   const double residual = (K * X - Y).norm() / std::max(Y.norm(), 1e-300);
   if (!X.allFinite() || !(residual <= rbf_residual_bound))

@@ -27,6 +27,9 @@ const char* to_string(Rbf_kernel kernel);
 
 /// The largest relative residual ‖K X − Y‖ / ‖Y‖ accepted after the LU solve.
 constexpr double rbf_residual_bound = 1e-9;
+/// Systems whose estimated reciprocal condition number (1-norm) is below this are refused as
+/// singular (Numerical_error) before they are solved.
+constexpr double rbf_rcond_bound = 1e-15;
 /// Centres whose affine block has a relative smallest singular value below this are treated as
 /// coplanar (auxiliary pairs are added, see Rbf_interpolant::fit).
 constexpr double rbf_coplanarity_bound = 1e-9;
@@ -55,8 +58,8 @@ class Rbf_interpolant {
   /// \throws Invalid_input (naming the pairs by 0-based index) for: sizes that differ, a
   ///         non-finite coordinate, fewer than 4 distinct centres, two equal centres with
   ///         different values, all centres collinear (or equal).
-  /// \throws Numerical_error when the solve yields a non-finite value or a relative residual
-  ///         above rbf_residual_bound.
+  /// \throws Numerical_error when the system is singular (rbf_rcond_bound), or the solve yields
+  ///         a non-finite value or a relative residual above rbf_residual_bound.
   static Rbf_interpolant fit(const std::vector<Point_3>& centres, const std::vector<Point_3>& values,
                              Rbf_kernel kernel = Rbf_kernel::linear,
                              const std::vector<Vector_3>& normals = {},
