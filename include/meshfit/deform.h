@@ -47,6 +47,10 @@ struct Deformation_report {
   std::size_t user_pairs = 0;
   Rbf_fit_report coarse_fit;
   double coarse_seconds = 0;
+  std::size_t coarse_flipped_faces = 0;    ///< faces the coarse motion flips (exact flip counter)
+  /// More than half the faces flip at the coarse level: the pairs mirror the template.
+  bool orientation_reversed = false;
+  std::size_t degenerate_faces_skipped = 0;  ///< zero-area faces before the fine motion: not judged
   // fine level
   bool fine_done = false;
   std::size_t fine_pairs = 0;              ///< pairs of the final fine RBF (user + closest point + refined)
@@ -261,9 +265,21 @@ Deformation_report deform_coarse(TriangleMesh& tm, const Curve_network& network,
   report.user_pairs = pairs.size();
   const Rbf_interpolant E = Rbf_interpolant::fit(centres, values, kernel, normals, &report.coarse_fit);
   internal::report_progress(progress, "coarse: moving the template", 1, 2);
-  std::vector<Point_3> p = s.positions();
-  E.evaluate(p, p);
+  const std::vector<Point_3> before = s.positions();
+  std::vector<Point_3> p;
+  E.evaluate(before, p);
   for (const Correspondence& c : pairs) p[c.template_vertex] = network.point(c.network_vertex);
+  // A mirror image (an affine part with negative determinant) flips every face: report it as an
+  // orientation reversal rather than as many flips.
+  std::size_t judged = 0;
+  for (auto f : faces(tm)) {
+    const auto c = s.corners(f);
+    const Triangle_points b{before[c[0]], before[c[1]], before[c[2]]};
+    if (orientation_in_plane(b, b[0], b[1], b[2]) == CGAL::ZERO) continue;
+    ++judged;
+    if (flip_counter(b, {p[c[0]], p[c[1]], p[c[2]]}).state() != Flip_state::kept) ++report.coarse_flipped_faces;
+  }
+  report.orientation_reversed = judged > 0 && 2 * report.coarse_flipped_faces > judged;
   s.set_positions(p);
   report.coarse_seconds = internal::seconds_since(t0);
   report.vertices = num_vertices(tm);
@@ -385,9 +401,16 @@ Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
     report.fine_pairs = placed.size();
 
     std::vector<typename GT::face_descriptor> flipped;
+    report.degenerate_faces_skipped = 0;
     for (auto f : faces(tm)) {
       const auto c = s.corners(f);
       const Triangle_points b{before[c[0]], before[c[1]], before[c[2]]};
+      // A face of zero area before the motion has no plane to flip in; subdividing it would not
+      // change that, so it is counted, not judged.
+      if (orientation_in_plane(b, b[0], b[1], b[2]) == CGAL::ZERO) {
+        ++report.degenerate_faces_skipped;
+        continue;
+      }
       const Triangle_points a{moved[c[0]], moved[c[1]], moved[c[2]]};
       if (flip_counter(b, a).state() != Flip_state::kept) flipped.push_back(f);
     }
@@ -432,7 +455,9 @@ Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
 }
 
 /// Both levels: deform_coarse then deform_fine (unless the named parameter `coarse_only` is true).
-/// The report holds the figures of both.
+/// The report holds the figures of both. When the coarse level reverses the orientation (pairs
+/// that mirror the template), the fine level is not run: the report says so and the caller
+/// decides (the command line fails with exit status 3).
 template <typename TriangleMesh, typename NamedParameters = CGAL::parameters::Default_named_parameters>
 Deformation_report deform_template(TriangleMesh& tm, const Curve_network& network,
                                    const std::vector<Correspondence>& pairs,
@@ -440,10 +465,13 @@ Deformation_report deform_template(TriangleMesh& tm, const Curve_network& networ
   using CGAL::parameters::choose_parameter;
   using CGAL::parameters::get_parameter;
   Deformation_report coarse = deform_coarse(tm, network, pairs, np);
-  if (choose_parameter(get_parameter(np, internal_np::coarse_only), false)) return coarse;
+  if (coarse.orientation_reversed || choose_parameter(get_parameter(np, internal_np::coarse_only), false))
+    return coarse;
   Deformation_report fine = deform_fine(tm, network, pairs, np);
   fine.coarse_fit = coarse.coarse_fit;
   fine.coarse_seconds = coarse.coarse_seconds;
+  fine.coarse_flipped_faces = coarse.coarse_flipped_faces;
+  fine.orientation_reversed = coarse.orientation_reversed;
   return fine;
 }
 

@@ -221,7 +221,8 @@ int run_deform(const Command_line& cl) {
        << "  \"counts\": {\"correspondences\": " << r.user_pairs << ", \"coarse_auxiliary_pairs\": "
        << r.coarse_fit.auxiliary_pairs << ", \"fine_pairs\": " << r.fine_pairs << ", \"flip_rounds\": " << r.flip_rounds
        << ", \"flips_found\": " << r.flips_found << ", \"flips_fixed\": " << (r.flips_found - r.remaining_flips)
-       << ", \"flips_remaining\": " << r.remaining_flips << ", \"faces_subdivided\": " << r.faces_subdivided
+       << ", \"flips_remaining\": " << r.remaining_flips << ", \"coarse_flipped_faces\": " << r.coarse_flipped_faces
+       << ", \"orientation_reversed\": " << (r.orientation_reversed ? "true" : "false") << ", \"faces_subdivided\": " << r.faces_subdivided
        << ", \"vertices_inserted_for_density\": " << r.vertices_inserted_for_density
        << ", \"vertices_inserted_for_flips\": " << r.vertices_inserted_for_flips
        << ", \"network_vertices\": " << network.number_of_vertices() << ", \"network_vertices_embedded\": " << embedded
@@ -233,6 +234,11 @@ int run_deform(const Command_line& cl) {
     const std::string text = js.str();
     meshfit::internal::write_file_atomically(report_path, [&](std::ostream& os) { os << text; });
   }
+  if (r.orientation_reversed)
+    throw meshfit::Algorithm_failure(
+        "deform", "the correspondences mirror the template: the coarse level flips " +
+                      std::to_string(r.coarse_flipped_faces) + " of " + std::to_string(out.triangles.size()) +
+                      " faces (an orientation reversal); check the pairs, or mirror the template first");
   if (r.remaining_flips > 0)
     throw meshfit::Algorithm_failure(
         "deform", std::to_string(r.remaining_flips) + " faces still flip after " + std::to_string(r.flip_rounds) +
