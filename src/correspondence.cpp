@@ -65,7 +65,7 @@ bool all_coplanar(const std::vector<Point_3>& pts) {
 
 void validate_correspondences(const std::vector<Correspondence>& pairs,
                               const std::vector<Point_3>& template_points,
-                              const Curve_network& network) {
+                              const Curve_network& network, bool allow_coplanar_template) {
   const Input_location file_only =
       pairs.empty() ? Input_location{} : Input_location{pairs.front().where.file, 0, Input_location::no_offset};
   std::vector<Point_3> sources, targets;
@@ -86,10 +86,18 @@ void validate_correspondences(const std::vector<Correspondence>& pairs,
   if (pairs.size() < 4)
     throw Invalid_input(file_only, "at least 4 correspondences are needed, found " +
                                        std::to_string(pairs.size()));
-  if (all_coplanar(sources))
+  if (allow_coplanar_template) {
+    std::size_t j = 1;
+    while (j < sources.size() && CGAL::collinear(sources[0], sources[1], sources[j])) ++j;
+    if (j == sources.size())
+      throw Invalid_input(file_only, "the template vertices of the " + std::to_string(pairs.size()) +
+                                         " correspondences are all collinear; the coarse RBF needs "
+                                         "pairs spanning a plane at least");
+  } else if (all_coplanar(sources)) {
     throw Invalid_input(file_only, "the template vertices of the " + std::to_string(pairs.size()) +
                                        " correspondences are all coplanar; the coarse RBF needs "
                                        "pairs spanning 3D");
+  }
   if (all_coplanar(targets))
     throw Invalid_input(file_only, "the network points of the " + std::to_string(pairs.size()) +
                                        " correspondences are all coplanar; the coarse RBF needs "

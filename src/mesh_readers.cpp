@@ -70,7 +70,7 @@ Polygon_soup parse_off_impl(std::string_view text, const std::string& name) {
                               " faces but the file ends after " + std::to_string(f));
     const auto& t = in.tokens();
     const std::uint64_t n = in.to_unsigned(t[0], "face size");
-    if (n + 1 > t.size())
+    if (n > t.size() - 1)
       in.fail("face " + std::to_string(f) + " declares " + std::to_string(n) +
               " vertices but the line has " + std::to_string(t.size() - 1) + " indices");
     if (t.size() - 1 - n > 4)
@@ -101,6 +101,7 @@ bool obj_statement_ignored(std::string_view k) {
 Polygon_soup parse_obj_impl(std::string_view text, const std::string& name) {
   Polygon_soup soup;
   soup.file = name;
+  soup.one_based = true;
   Line_reader in(text, name);
   // Positive indices may refer to vertices defined later; they are range-checked by the mesh
   // check once all vertices are known, with the line of the face that used them.

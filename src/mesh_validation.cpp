@@ -80,6 +80,8 @@ Mesh_data validate_polygon_soup(const Polygon_soup& soup, Mesh_read_report* repo
     throw Invalid_input(soup.location(soup.polygon_where[p]), problem);
   };
 
+  // Vertex numbers in messages as the file writes them.
+  auto vertex_name = [&](std::size_t v) { return std::to_string(soup.one_based ? v + 1 : v); };
   Mesh_data mesh;
   mesh.points = soup.points;
   std::vector<std::size_t> source;  // polygon of each triangle
@@ -93,13 +95,13 @@ Mesh_data validate_polygon_soup(const Polygon_soup& soup, Mesh_read_report* repo
                              (k == 1 ? " vertex" : " vertices") + "; a face needs at least 3");
     for (std::size_t i = 0; i < k; ++i)
       if (c[i] >= n)
-        fail_at_polygon(p, "face " + std::to_string(p) + " refers to vertex " + std::to_string(c[i]) +
+        fail_at_polygon(p, "face " + std::to_string(p) + " refers to vertex " + vertex_name(c[i]) +
                                ", but there are only " + std::to_string(n) + " vertices");
     sorted.assign(c, c + k);
     std::sort(sorted.begin(), sorted.end());
     const auto dup = std::adjacent_find(sorted.begin(), sorted.end());
     if (dup != sorted.end())
-      fail_at_polygon(p, "vertex " + std::to_string(*dup) + " appears more than once in face " +
+      fail_at_polygon(p, "vertex " + vertex_name(*dup) + " appears more than once in face " +
                              std::to_string(p));
     if (k == 3) {
       mesh.triangles.push_back({c[0], c[1], c[2]});
@@ -194,7 +196,7 @@ Mesh_data validate_polygon_soup(const Polygon_soup& soup, Mesh_read_report* repo
     const Input_location at = soup.location(soup.edge_where[e]);
     for (std::size_t v : ce)
       if (v >= n)
-        throw Invalid_input(at, "curve edge refers to vertex " + std::to_string(v) +
+        throw Invalid_input(at, "curve edge refers to vertex " + vertex_name(v) +
                                     ", but there are only " + std::to_string(n) + " vertices");
     if (ce[0] == ce[1]) throw Invalid_input(at, "curve edge joins vertex " + std::to_string(ce[0]) + " to itself");
     const Half_edge key{std::min(ce[0], ce[1]), std::max(ce[0], ce[1]), 0, true};

@@ -12,6 +12,7 @@ namespace internal {
 struct Polygon_soup {
   std::string file;
   bool binary = false;  ///< locations are byte offsets rather than line numbers
+  bool one_based = false;  ///< the file numbers vertices from 1 (OBJ): messages do too
   std::vector<Point_3> points;
   // Polygon p has corners corners[start[p]] .. corners[start[p+1]-1].
   std::vector<std::size_t> corners;

@@ -3,6 +3,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <sstream>
@@ -11,13 +12,23 @@ namespace meshfit {
 namespace internal {
 
 std::string read_all(std::istream& in, const std::string& file_name) {
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string text;
+  try {
+    text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  } catch (const std::ios_base::failure& e) {
+    throw Invalid_input(Input_location{file_name, 0, Input_location::no_offset},
+                        std::string("read error: ") + e.what());
+  }
   if (in.bad()) throw Invalid_input(Input_location{file_name, 0, Input_location::no_offset},
                                     "read error");
   return text;
 }
 
 std::string read_file(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
+    throw Invalid_input(Input_location{path, 0, Input_location::no_offset},
+                        "not a regular file (a directory?)");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Invalid_input(Input_location{path, 0, Input_location::no_offset},
                                "cannot open the file for reading");
@@ -96,7 +107,8 @@ Number_status parse_double(std::string_view token, double& value) {
   if (token.empty()) return Number_status::malformed;
   std::string_view t = token;
   if (t.front() == '+') t.remove_prefix(1);
-  if (t.empty() || t.front() == '+') return Number_status::malformed;
+  if (t.empty() || t.front() == '+' || (t.size() < token.size() && t.front() == '-'))
+    return Number_status::malformed;
   const auto res = std::from_chars(t.data(), t.data() + t.size(), value,
                                    std::chars_format::general);
   if (res.ptr != t.data() + t.size()) return Number_status::malformed;
@@ -126,7 +138,7 @@ Number_status parse_unsigned(std::string_view token, std::uint64_t& value) {
 Number_status parse_signed(std::string_view token, std::int64_t& value) {
   std::string_view t = token;
   if (!t.empty() && t.front() == '+') t.remove_prefix(1);
-  if (t.empty()) return Number_status::malformed;
+  if (t.empty() || (t.size() < token.size() && t.front() == '-')) return Number_status::malformed;
   const auto res = std::from_chars(t.data(), t.data() + t.size(), value);
   if (res.ec == std::errc::result_out_of_range) return Number_status::out_of_range;
   if (res.ec != std::errc() || res.ptr != t.data() + t.size()) return Number_status::malformed;

@@ -49,7 +49,7 @@ void write_file_atomically(const std::string& path, const std::function<void(std
       std::ofstream os(tmp, std::ios::binary | std::ios::trunc);
       if (!os) throw Invalid_input(where, "cannot open a temporary file for writing");
       write(os);
-      os.flush();
+      os.close();
       if (!os) throw Invalid_input(where, "write error (disk full?)");
     }
     if (std::rename(tmp.c_str(), path.c_str()) != 0)

@@ -78,6 +78,14 @@ TEST_CASE("cli: usage errors exit with status 2 and stages not yet built say so"
   CHECK(missing.status == 1);
   CHECK(missing.err.find("cannot open") != std::string::npos);
   CHECK(run(dir, "--help").status == 0);
+  // A directory where a file is expected is invalid input, named.
+  const std::string d = MESHFIT_EXAMPLE_DATA_DIR;
+  const Run_result folder = run(dir, "check --template " + q(d + "/template.off") + " --curves " + q(d) +
+                                         " --correspondences " + q(d + "/pairs.txt"));
+  CHECK(folder.status == 1);
+  CHECK(folder.err.find("not a regular file") != std::string::npos);
+  CHECK(run(dir, "check --template " + q(d + "/template.off") + " --curves " + q(d + "/curves.polylines.txt") +
+                     " --correspondences " + q(d + "/pairs.txt") + " --merge-tolerance 0.5").status == 2);
   CHECK(run(dir, "--version").out.find("meshfit ") == 0);
 }
 
@@ -122,5 +130,17 @@ TEST_CASE("cli: deform writes the deformed mesh and a report", "[cli][deform]") 
     CHECK(run(dir, "deform" + args + " --output " + q(dir.file("o.off")) + " --kernel gaussian").status == 2);
     CHECK(run(dir, "deform" + args + " --output " + q(dir.file("o.off")) + " --max-rounds 0").status == 2);
     CHECK(run(dir, "deform" + args).status == 2);
+    const Run_result clash = run(dir, "deform" + args + " --output " + q(dir.file("same.json")) + " --report " + q(dir.file("same.json")));
+    CHECK(clash.status == 1);
+  }
+  SECTION("a template without faces is invalid input") {
+    const std::string bare = dir.write("bare.off", "OFF\n5 0 0\n1 0 0\n0 1 0\n0 0 1\n-1 0 0\n0 0 -1\n");
+    const std::string p = dir.write("p.txt", "0 1.8680995472317172 0 -0.25\n1 -1.8680995472317172 0 -0.25\n"
+                                             "2 0.29999999999999999 0 0.69208019766498163\n"
+                                             "3 0.29999999999999999 0.73754142049024984 -0.25\n");
+    const Run_result r = run(dir, "deform --template " + q(bare) + " --curves " + q(d + "/curves.polylines.txt") +
+                                      " --correspondences " + q(p) + " --output " + q(dir.file("o.off")));
+    CHECK(r.status == 1);
+    CHECK(r.err.find("no face") != std::string::npos);
   }
 }

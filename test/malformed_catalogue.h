@@ -85,6 +85,8 @@ inline std::vector<Malformed_case> malformed_catalogue() {
       {"OFF face with no vertex", K::template_mesh, ".off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n0\n", 6, none, "has 0 vertices"},
       {"OFF face size larger than its line", K::template_mesh, ".off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n5 0 1 2\n", 6, none, "declares 5 vertices"},
       {"OFF absurd face size", K::template_mesh, ".off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n4000000000 0 1 2\n", 6, none, "declares 4000000000 vertices"},
+      {"OFF face size of 2^64-1", K::template_mesh, ".off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n18446744073709551615 0 1 2\n", 6, none, "declares 18446744073709551615 vertices"},
+      {"OFF coordinate with two signs", K::template_mesh, ".off", "OFF\n3 1 0\n0 0 0\n+-1 0 0\n0 1 0\n3 0 1 2\n", 4, none, "expected a number"},
       {"OFF repeated vertex in a face", K::template_mesh, ".off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 1\n", 6, none, "appears more than once"},
       {"OFF edge shared by three faces", K::template_mesh, ".off",
        "OFF\n5 3 0\n0 0 0\n1 0 0\n0 1 0\n0 -1 0\n0 0 1\n3 0 1 2\n3 1 0 3\n3 0 1 4\n", 10, none, "shared by 3 faces"},
@@ -98,7 +100,7 @@ inline std::vector<Malformed_case> malformed_catalogue() {
       // ---- OBJ
       {"OBJ zero index", K::template_mesh, ".obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", 4, none, "OBJ indices start at 1"},
       {"OBJ negative index before the first vertex", K::template_mesh, ".obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -1 -2 -4\n", 4, none, "refers before the first vertex"},
-      {"OBJ index out of range", K::template_mesh, ".obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf 1 2 9\n", 5, none, "refers to vertex 8"},
+      {"OBJ index out of range", K::template_mesh, ".obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf 1 2 9\n", 5, none, "refers to vertex 9, but there are only 3 vertices"},
       {"OBJ vertex with two coordinates", K::template_mesh, ".obj", "v 0 0 0\nv 1 0\n", 2, none, "expected x y z"},
       {"OBJ face with two vertices", K::template_mesh, ".obj", "v 0 0 0\nv 1 0 0\nf 1 2\n", 3, none, "has 2 vertices"},
       {"OBJ unknown statement", K::template_mesh, ".obj", "v 0 0 0\nvertex 1 0 0\n", 2, none, "unknown OBJ statement 'vertex'"},

@@ -33,11 +33,13 @@ std::vector<Correspondence> parse_correspondences(const std::string& content, co
 
 /// Checks pairs against a template with the given vertex positions: indices in range, at least
 /// four pairs, and neither the template vertices nor the network vertices all coplanar (exact
-/// test), so that an RBF with an affine term is defined by them.
-/// \throws Invalid_input naming the pair (its line when known) or the set.
+/// test), so that an RBF with an affine term is defined by them. With `allow_coplanar_template`
+/// (what deformation needs: it adds auxiliary pairs off the plane) the template vertices may be
+/// coplanar but not collinear.
+/// \throws Invalid_input naming the pair (its line when known) or the set (its file when known).
 void validate_correspondences(const std::vector<Correspondence>& pairs,
                               const std::vector<Point_3>& template_points,
-                              const Curve_network& network);
+                              const Curve_network& network, bool allow_coplanar_template = false);
 
 /// The closest-point correspondences of thesis §2.1.
 struct Closest_point_assignment {

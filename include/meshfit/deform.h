@@ -214,7 +214,8 @@ void report_progress(const Progress& progress, const char* step, std::size_t ind
 }
 
 inline void check_pairs(const std::vector<Correspondence>& pairs, std::size_t template_vertices,
-                        const Curve_network& network) {
+                        std::size_t template_faces, const Curve_network& network) {
+  if (template_faces == 0) throw Invalid_input("deform: the template has no face");
   for (std::size_t i = 0; i < pairs.size(); ++i) {
     const Correspondence& c = pairs[i];
     if (c.template_vertex >= template_vertices || c.network_vertex >= network.number_of_vertices())
@@ -252,7 +253,7 @@ Deformation_report deform_coarse(TriangleMesh& tm, const Curve_network& network,
 
   internal::Deform_state<TriangleMesh, decltype(internal::vertex_point_map_of(tm, np))> s(
       tm, internal::vertex_point_map_of(tm, np));
-  internal::check_pairs(pairs, s.vertex.size(), network);
+  internal::check_pairs(pairs, s.vertex.size(), num_faces(tm), network);
   internal::report_progress(progress, "coarse: fitting the RBF through the user's pairs", 0, 2);
   std::vector<Point_3> centres, values;
   std::vector<Vector_3> normals;
@@ -317,15 +318,17 @@ Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
 
   auto vpm = internal::vertex_point_map_of(tm, np);
   internal::Deform_state<TriangleMesh, decltype(vpm)> s(tm, vpm);
-  internal::check_pairs(pairs, s.vertex.size(), network);
+  internal::check_pairs(pairs, s.vertex.size(), num_faces(tm), network);
   Deformation_report report;
   report.user_pairs = pairs.size();
 
   // Pairs kept from round to round: the user's, then those made for density and flips.
   std::vector<Correspondence> fixed = pairs;
   const std::size_t user_pairs = pairs.size();
-  std::size_t refine_passes = 0;
-  const std::size_t max_refine_passes = 4;
+  // Density refinement repeats while it makes progress (a loser whose nearest point is taken by
+  // a nearer network vertex may need several passes), within a bound.
+  std::size_t refine_passes = 0, last_losers = SIZE_MAX;
+  const std::size_t max_refine_passes = 32;
 
   // Gives each listed network vertex a mesh vertex at its nearest point on the surface (one per
   // face and call) and pins it there; splits `centroid_faces` at their centroids. Moving such a
@@ -353,13 +356,17 @@ Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
       reserved.resize(s.vertex.size(), false);
       reserved[t] = true;
       // A network vertex pinned before is re-pinned (never one of the user's pairs).
-      const auto first_made = fixed.begin() + static_cast<std::ptrdiff_t>(user_pairs);
-      const auto it = std::find_if(first_made, fixed.end(),
-                                   [&](const Correspondence& c) { return c.network_vertex == network_vertex; });
-      if (it != fixed.end()) fixed.erase(it);
-      if (std::any_of(fixed.begin(), first_made,
-                      [&](const Correspondence& c) { return c.network_vertex == network_vertex; }))
-        continue;
+      bool users = false;
+      for (std::size_t k = 0; k < fixed.size(); ++k) {
+        if (fixed[k].network_vertex != network_vertex) continue;
+        if (k < user_pairs) {
+          users = true;
+        } else {
+          fixed.erase(fixed.begin() + static_cast<std::ptrdiff_t>(k));
+          break;
+        }
+      }
+      if (users) continue;
       Correspondence c;
       c.template_vertex = t;
       c.network_vertex = network_vertex;
@@ -378,8 +385,9 @@ Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
     assignment = closest_point_correspondences(before, network, fixed);
 
     if (!assignment.losers.empty() && density == Curve_density::refine &&
-        refine_passes < max_refine_passes) {
+        refine_passes < max_refine_passes && assignment.losers.size() < last_losers) {
       ++refine_passes;
+      last_losers = assignment.losers.size();
       report.vertices_inserted_for_density += pin_at_projections(assignment.losers, {});
       --round;  // refinement is not a flip round
       continue;
@@ -446,6 +454,7 @@ Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
 
   s.set_positions(moved);
   report.fine_done = true;
+  // With Curve_density::refine these are the network vertices refinement could not serve.
   report.dropped_network_vertices = assignment.losers;
   report.mesh_vertex_of_network_vertex = assignment.template_of;
   report.fine_seconds = internal::seconds_since(t0);

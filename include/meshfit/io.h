@@ -80,8 +80,8 @@ struct Write_options {
 /// (`g region_<k>`) and writes curve edges as `l`; `.ply` writes a face property `patch_id` and an
 /// `edge` element; `.off` and `.stl` write geometry only. The file is written next to its
 /// destination under a temporary name and renamed into place, so a failure leaves no partial file.
-/// \throws Invalid_input when the path is protected, has an unknown extension, or the mesh refers
-///         to vertices that do not exist; std::runtime_error when the file cannot be written.
+/// \throws Invalid_input naming the path when it is protected, has an unknown extension, or
+///         cannot be written, or when the mesh refers to vertices that do not exist.
 void write_mesh_data(const std::string& path, const Mesh_data& mesh,
                      const Write_options& options = Write_options());
 void write_mesh_data(std::ostream& out, Mesh_format format, const Mesh_data& mesh,
@@ -112,6 +112,9 @@ build_triangle_mesh(const Mesh_data& mesh, TriangleMesh& tm,
   auto vpm = choose_parameter(get_parameter(np, CGAL::internal_np::vertex_point),
                               get_property_map(CGAL::vertex_point, tm));
 
+  if (!mesh.face_patch.empty() && mesh.face_patch.size() != mesh.triangles.size())
+    throw Invalid_input("face_patch has " + std::to_string(mesh.face_patch.size()) + " entries for " +
+                        std::to_string(mesh.triangles.size()) + " triangles");
   internal::clear_mesh(tm);
   std::vector<vertex_descriptor> vertex_of(mesh.points.size());
   for (std::size_t i = 0; i < mesh.points.size(); ++i) {

@@ -94,8 +94,8 @@ double merge_tolerance(const Command_line& cl) {
   if (it == cl.values.end()) return meshfit::default_merge_tolerance;
   char* end = nullptr;
   const double v = std::strtod(it->second.c_str(), &end);
-  if (end == it->second.c_str() || *end != '\0' || !(v > 0))
-    throw Usage_error{"--merge-tolerance needs a positive number, not '" + it->second + "'"};
+  if (end == it->second.c_str() || *end != '\0' || !(v >= 1e-15 && v <= 1e-2))
+    throw Usage_error{"--merge-tolerance needs a number from 1e-15 to 1e-2, not '" + it->second + "'"};
   return v;
 }
 
@@ -166,6 +166,7 @@ int run_deform(const Command_line& cl) {
   if (cl.values.count("--report")) {
     report_path = cl.values.at("--report");
     meshfit::check_output_path(report_path, inputs);
+    meshfit::check_output_path(output, {report_path});
   }
 
   meshfit::Rbf_kernel kernel = meshfit::Rbf_kernel::linear;
@@ -196,7 +197,12 @@ int run_deform(const Command_line& cl) {
   meshfit::read_triangle_mesh(template_path, tm);
   const meshfit::Curve_network network = meshfit::read_curve_network(curves_path, merge_tolerance(cl));
   const auto pairs = meshfit::read_correspondences(pairs_path, network);
-  // Coplanar pairs are accepted here: the RBF adds auxiliary pairs (see Rbf_interpolant::fit).
+  const meshfit::Mesh_data template_data = meshfit::to_mesh_data(tm);
+  if (template_data.triangles.empty())
+    throw meshfit::Invalid_input(meshfit::Input_location{template_path, 0, meshfit::Input_location::no_offset},
+                                 "the template has no face");
+  // Coplanar template vertices are accepted here: the RBF adds auxiliary pairs off the plane.
+  meshfit::validate_correspondences(pairs, template_data.points, network, true);
   const double read_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   const bool quiet = cl.quiet;
@@ -204,11 +210,17 @@ int run_deform(const Command_line& cl) {
     if (!quiet) std::cerr << "meshfit: " << s.stage << ": " << s.step << " (" << s.index + 1 << "/" << s.total << ")\n";
     return true;
   };
-  const meshfit::Deformation_report r = meshfit::deform_template(
-      tm, network, pairs,
-      meshfit::parameters::rbf_kernel(kernel, meshfit::parameters::curve_density(
-          density, meshfit::parameters::coarse_only(cl.coarse_only, meshfit::parameters::progress(
-              progress, CGAL::parameters::number_of_iterations(rounds))))));
+  meshfit::Deformation_report r;
+  std::string failure;  // a numerical failure, reported with the figures gathered so far
+  try {
+    r = meshfit::deform_template(
+        tm, network, pairs,
+        meshfit::parameters::rbf_kernel(kernel, meshfit::parameters::curve_density(
+            density, meshfit::parameters::coarse_only(cl.coarse_only, meshfit::parameters::progress(
+                progress, CGAL::parameters::number_of_iterations(rounds))))));
+  } catch (const meshfit::Numerical_error& e) {
+    failure = e.what();
+  }
   const meshfit::Mesh_data out = meshfit::to_mesh_data(tm);
 
   if (!report_path.empty()) {
@@ -216,6 +228,7 @@ int run_deform(const Command_line& cl) {
     for (std::size_t v : r.mesh_vertex_of_network_vertex) embedded += v != meshfit::Closest_point_assignment::unassigned;
     std::ostringstream js;
     js << "{\n  \"command\": \"deform\",\n  \"meshfit_version\": \"" << MESHFIT_VERSION_STRING << "\",\n"
+       << "  \"completed\": " << (failure.empty() ? "true" : "false") << ",\n"
        << "  \"timings_s\": {\"read\": " << json_number(read_s) << ", \"coarse\": " << json_number(r.coarse_seconds)
        << ", \"fine\": " << json_number(r.fine_seconds) << "},\n"
        << "  \"counts\": {\"correspondences\": " << r.user_pairs << ", \"coarse_auxiliary_pairs\": "
@@ -234,18 +247,28 @@ int run_deform(const Command_line& cl) {
     const std::string text = js.str();
     meshfit::internal::write_file_atomically(report_path, [&](std::ostream& os) { os << text; });
   }
+  if (!failure.empty()) throw meshfit::Algorithm_failure("deform", failure);
   if (r.orientation_reversed)
     throw meshfit::Algorithm_failure(
         "deform", "the correspondences mirror the template: the coarse level flips " +
                       std::to_string(r.coarse_flipped_faces) + " of " + std::to_string(out.triangles.size()) +
                       " faces (an orientation reversal); check the pairs, or mirror the template first");
+  if (density == meshfit::Curve_density::refine && !r.dropped_network_vertices.empty())
+    throw meshfit::Algorithm_failure(
+        "deform", std::to_string(r.dropped_network_vertices.size()) +
+                      " network vertices could not be given a mesh vertex of their own (their nearest "
+                      "surface points are taken by nearer ones); --curve-density drop accepts that");
   if (r.remaining_flips > 0)
     throw meshfit::Algorithm_failure(
         "deform", std::to_string(r.remaining_flips) + " faces still flip after " + std::to_string(r.flip_rounds) +
                       " rounds of flip prevention (raise --max-rounds, or give more correspondences so that the "
                       "coarse level brings the template closer to the curves)");
+  if (!quiet && r.coarse_flipped_faces > 0)
+    std::cerr << "meshfit: deform: warning: the coarse level flips " << r.coarse_flipped_faces
+              << " faces; the fine level does not unflip them (more or better-spread pairs help)\n";
   meshfit::Write_options options;
   options.protected_paths = inputs;
+  if (!report_path.empty()) options.protected_paths.push_back(report_path);
   meshfit::write_mesh_data(output, out, options);
   if (!quiet)
     std::cerr << "meshfit: deform: wrote " << output << " (" << out.points.size() << " vertices, "
