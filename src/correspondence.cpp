@@ -1,5 +1,6 @@
 #include <meshfit/correspondence.h>
 
+#include "point_set_predicates.h"
 #include "text_parser.h"
 #include "write_file.h"
 
@@ -45,24 +46,6 @@ std::vector<Correspondence> read_correspondences(const std::string& path, const 
   return parse_correspondences(internal::read_file(path), path, network);
 }
 
-namespace {
-
-// Exact: true when every point lies in one plane (fewer than four points always do).
-bool all_coplanar(const std::vector<Point_3>& pts) {
-  if (pts.size() < 4) return true;
-  std::size_t j = 1;
-  while (j < pts.size() && pts[j] == pts[0]) ++j;
-  if (j == pts.size()) return true;
-  std::size_t k = j + 1;
-  while (k < pts.size() && CGAL::collinear(pts[0], pts[j], pts[k])) ++k;
-  if (k == pts.size()) return true;
-  for (std::size_t i = k + 1; i < pts.size(); ++i)
-    if (!CGAL::coplanar(pts[0], pts[j], pts[k], pts[i])) return false;
-  return true;
-}
-
-}  // namespace
-
 void validate_correspondences(const std::vector<Correspondence>& pairs,
                               const std::vector<Point_3>& template_points,
                               const Curve_network& network, bool allow_coplanar_template) {
@@ -87,18 +70,16 @@ void validate_correspondences(const std::vector<Correspondence>& pairs,
     throw Invalid_input(file_only, "at least 4 correspondences are needed, found " +
                                        std::to_string(pairs.size()));
   if (allow_coplanar_template) {
-    std::size_t j = 1;
-    while (j < sources.size() && CGAL::collinear(sources[0], sources[1], sources[j])) ++j;
-    if (j == sources.size())
+    if (internal::all_collinear(sources))
       throw Invalid_input(file_only, "the template vertices of the " + std::to_string(pairs.size()) +
                                          " correspondences are all collinear; the coarse RBF needs "
                                          "pairs spanning a plane at least");
-  } else if (all_coplanar(sources)) {
+  } else if (internal::all_coplanar(sources)) {
     throw Invalid_input(file_only, "the template vertices of the " + std::to_string(pairs.size()) +
                                        " correspondences are all coplanar; the coarse RBF needs "
                                        "pairs spanning 3D");
   }
-  if (all_coplanar(targets))
+  if (internal::all_coplanar(targets))
     throw Invalid_input(file_only, "the network points of the " + std::to_string(pairs.size()) +
                                        " correspondences are all coplanar; the coarse RBF needs "
                                        "pairs spanning 3D");

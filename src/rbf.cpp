@@ -1,6 +1,7 @@
 #include <meshfit/rbf.h>
 
 #include "fp_traps.h"
+#include "point_set_predicates.h"
 #include "rbf_evaluate.h"
 
 #include <Eigen/Dense>
@@ -94,18 +95,6 @@ std::pair<double, Vector_3> affine_conditioning(const std::vector<Point_3>& pts,
   return {ratio, Vector_3(n(0), n(1), n(2))};
 }
 
-bool all_coplanar_exact(const std::vector<Point_3>& pts) {
-  std::size_t j = 1;
-  while (j < pts.size() && pts[j] == pts[0]) ++j;
-  if (j == pts.size()) return true;
-  std::size_t k = j + 1;
-  while (k < pts.size() && CGAL::collinear(pts[0], pts[j], pts[k])) ++k;
-  if (k == pts.size()) return true;
-  for (std::size_t i = k + 1; i < pts.size(); ++i)
-    if (!CGAL::coplanar(pts[0], pts[j], pts[k], pts[i])) return false;
-  return true;
-}
-
 }  // namespace
 
 Rbf_interpolant Rbf_interpolant::fit(const std::vector<Point_3>& centres_in,
@@ -155,12 +144,9 @@ Rbf_interpolant Rbf_interpolant::fit(const std::vector<Point_3>& centres_in,
     throw Invalid_input("RBF: " + std::to_string(centres.size()) +
                         " distinct centres; at least 4 are needed");
 
-  {
-    std::size_t j = 1;
-    while (j < centres.size() && CGAL::collinear(centres[0], centres[1], centres[j])) ++j;
-    if (j == centres.size())
-      throw Invalid_input("RBF: all " + std::to_string(centres.size()) +
-                          " centres are collinear; they must span 3D (or at least a plane)");
+  if (internal::all_collinear(centres)) {
+    throw Invalid_input("RBF: all " + std::to_string(centres.size()) +
+                        " centres are collinear; they must span 3D (or at least a plane)");
   }
 
   // Coplanar (exactly or nearly): add auxiliary pairs off the plane.
@@ -169,7 +155,7 @@ Rbf_interpolant Rbf_interpolant::fit(const std::vector<Point_3>& centres_in,
   std::tie(centre_shift, centre_diag) = frame_of(centres);
   std::tie(ratio, thin) = affine_conditioning(centres, centre_shift, 1.0 / centre_diag);
   std::size_t auxiliary = 0;
-  if (all_coplanar_exact(centres) || ratio < rbf_coplanarity_bound) {
+  if (internal::all_coplanar(centres) || ratio < rbf_coplanarity_bound) {
     const double h = 0.1 * centre_diag;
     const std::size_t n0 = centres.size();
     auto augment = [&](bool use_normals) {
