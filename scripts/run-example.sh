@@ -8,7 +8,10 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 out="$root/out/example"
 mkdir -p "$out"
 data="$root/examples/data"
-# The full pipeline (meshfit fit) replaces this check once its stages exist.
+# The full pipeline (meshfit fit) replaces these once its stages exist: the inputs checked, then
+# stage 1 (the template deformed onto the curves).
 "$root/build/meshfit" check --template "$data/template.off" --curves "$data/curves.polylines.txt" \
   --correspondences "$data/pairs.txt" | tee "$out/check.txt"
+"$root/build/meshfit" deform --template "$data/template.off" --curves "$data/curves.polylines.txt" \
+  --correspondences "$data/pairs.txt" --output "$out/deformed.ply" --report "$out/deform-report.json"
 echo "meshfit: outputs written to $out" >&2
