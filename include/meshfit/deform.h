@@ -380,7 +380,6 @@ Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
   std::vector<Point_3> moved;
   Closest_point_assignment assignment;
   for (std::size_t round = 0;; ++round) {
-    internal::report_progress(progress, "fine: correspondences, RBF and flip detection", round, max_rounds);
     std::vector<Point_3> before = s.positions();
     assignment = closest_point_correspondences(before, network, fixed);
 
@@ -388,11 +387,15 @@ Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
         refine_passes < max_refine_passes && assignment.losers.size() < last_losers) {
       ++refine_passes;
       last_losers = assignment.losers.size();
+      internal::report_progress(progress, "fine: refining where the curves are denser than the template",
+                                refine_passes - 1, max_refine_passes);
       report.vertices_inserted_for_density += pin_at_projections(assignment.losers, {});
       --round;  // refinement is not a flip round
       continue;
     }
 
+    internal::report_progress(progress, "fine: RBF through the correspondences and flip detection", round,
+                              max_rounds);
     std::vector<Point_3> centres, values;
     std::vector<std::pair<std::size_t, std::size_t>> placed;  // (mesh vertex, network vertex)
     for (std::size_t v = 0; v < assignment.template_of.size(); ++v) {
