@@ -12,6 +12,7 @@
 #include <meshfit/curve_network.h>
 #include <meshfit/exceptions.h>
 #include <meshfit/flip.h>
+#include <meshfit/internal/triangle_corners.h>
 #include <meshfit/parameters.h>
 #include <meshfit/rbf.h>
 
@@ -104,16 +105,7 @@ struct Deform_state {
     using P = typename boost::property_traits<VPM>::value_type;
     for (std::size_t i = 0; i < vertex.size(); ++i) put(vpm, vertex[i], P(p[i].x(), p[i].y(), p[i].z()));
   }
-  std::array<std::size_t, 3> corners(face_descriptor f) const {
-    std::array<std::size_t, 3> c{};
-    std::size_t k = 0;
-    for (auto v : CGAL::vertices_around_face(halfedge(f, tm), tm)) {
-      if (k == 3) throw Invalid_input("deform: the mesh has a face with more than three vertices");
-      c[k++] = get(index, v);
-    }
-    if (k != 3) throw Invalid_input("deform: the mesh has a face with fewer than three vertices");
-    return c;
-  }
+  std::array<std::size_t, 3> corners(face_descriptor f) const { return triangle_corners(f, tm, index); }
   using Point = typename boost::property_traits<VPM>::value_type;
   std::size_t faces_split = 0;  ///< by the split functions below
 
@@ -299,8 +291,8 @@ Deformation_report deform_coarse(TriangleMesh& tm, const Curve_network& network,
 /// rounds (default 10); `report.remaining_flips` tells whether that was enough. With
 /// Curve_density::refine (default) network vertices that lost their nearest template vertex get a
 /// vertex the same way; with Curve_density::drop they are dropped (reported), and only flip
-/// prevention adds vertices. New vertices come after the existing ones. Named parameters: `vertex_point_map`, `rbf_kernel`,
-/// `curve_density`, `number_of_iterations`, `progress`.
+/// prevention adds vertices. New vertices come after the existing ones. Named parameters:
+/// `vertex_point_map`, `rbf_kernel`, `curve_density`, `number_of_iterations`, `progress`.
 template <typename TriangleMesh, typename NamedParameters = CGAL::parameters::Default_named_parameters>
 Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
                                const std::vector<Correspondence>& pairs,

@@ -15,6 +15,7 @@
 
 #include <meshfit/exceptions.h>
 #include <meshfit/internal/clear_mesh.h>
+#include <meshfit/internal/triangle_corners.h>
 #include <meshfit/kernel.h>
 
 #include <CGAL/boost/graph/Euler_operations.h>
@@ -194,14 +195,7 @@ Mesh_data to_mesh_data(const TriangleMesh& tm,
       !std::is_same_v<decltype(fpm), CGAL::internal_np::Param_not_found>;
   out.triangles.reserve(num_faces(tm));
   for (auto f : faces(tm)) {
-    std::array<std::size_t, 3> t{};
-    std::size_t k = 0;
-    for (auto v : CGAL::vertices_around_face(halfedge(f, tm), tm)) {
-      if (k == 3) throw Invalid_input("face with more than three vertices: not a triangle mesh");
-      t[k++] = get(index, v);
-    }
-    if (k != 3) throw Invalid_input("face with fewer than three vertices");
-    out.triangles.push_back(t);
+    out.triangles.push_back(internal::triangle_corners(f, tm, index));
     if constexpr (has_patches) out.face_patch.push_back(static_cast<int>(get(fpm, f)));
   }
   auto ecm = get_parameter(np, CGAL::internal_np::edge_is_constrained);
