@@ -169,18 +169,21 @@ TEST_CASE("rbf: agrees with SciPy's RBFInterpolator to 1e-9", "[rbf][reference]"
       if (!line.empty() && line[0] != '#') return true;
     return false;
   };
-  REQUIRE(next_data());
-  std::size_t n = 0;
-  std::istringstream(line) >> word >> n;
-  REQUIRE(word == "centres");
-  for (std::size_t i = 0; i < n; ++i) {
+  // A data line "x y z X Y Z": a point and its value.
+  auto read_pair = [&](std::vector<Point_3>& first, std::vector<Point_3>& second) {
     REQUIRE(next_data());
     std::istringstream s(line);
     double a[6];
     for (double& x : a) s >> x;
-    c.emplace_back(a[0], a[1], a[2]);
-    v.emplace_back(a[3], a[4], a[5]);
-  }
+    REQUIRE(s);
+    first.emplace_back(a[0], a[1], a[2]);
+    second.emplace_back(a[3], a[4], a[5]);
+  };
+  REQUIRE(next_data());
+  std::size_t n = 0;
+  std::istringstream(line) >> word >> n;
+  REQUIRE(word == "centres");
+  for (std::size_t i = 0; i < n; ++i) read_pair(c, v);
   std::size_t kernels = 0;
   while (next_data()) {
     std::size_t m = 0;
@@ -189,14 +192,7 @@ TEST_CASE("rbf: agrees with SciPy's RBFInterpolator to 1e-9", "[rbf][reference]"
     REQUIRE(word == "kernel");
     const Rbf_interpolant E = Rbf_interpolant::fit(c, v, name == "cubic" ? Rbf_kernel::cubic : Rbf_kernel::linear);
     std::vector<Point_3> q, expected, out;
-    for (std::size_t i = 0; i < m; ++i) {
-      REQUIRE(next_data());
-      std::istringstream s(line);
-      double a[6];
-      for (double& x : a) s >> x;
-      q.emplace_back(a[0], a[1], a[2]);
-      expected.emplace_back(a[3], a[4], a[5]);
-    }
+    for (std::size_t i = 0; i < m; ++i) read_pair(q, expected);
     E.evaluate(q, out);
     double scale = 0;
     for (const auto& p : expected) scale = std::max({scale, std::abs(p.x()), std::abs(p.y()), std::abs(p.z())});

@@ -106,6 +106,25 @@ struct Deform_state {
     for (std::size_t i = 0; i < vertex.size(); ++i) put(vpm, vertex[i], P(p[i].x(), p[i].y(), p[i].z()));
   }
   std::array<std::size_t, 3> corners(face_descriptor f) const { return triangle_corners(f, tm, index); }
+
+  /// The faces that moving the vertices from `before` to `after` flips or collapses (exact flip
+  /// counter). A face of zero area before the motion has no plane to flip in, and subdividing it
+  /// would not change that: it is counted in `degenerate`, not judged.
+  std::vector<face_descriptor> flipped_faces(const std::vector<Point_3>& before, const std::vector<Point_3>& after,
+                                             std::size_t& degenerate) const {
+    std::vector<face_descriptor> flipped;
+    degenerate = 0;
+    for (auto f : faces(tm)) {
+      const auto c = corners(f);
+      const Triangle_points b{before[c[0]], before[c[1]], before[c[2]]};
+      if (orientation_in_plane(b, b[0], b[1], b[2]) == CGAL::ZERO) {
+        ++degenerate;
+        continue;
+      }
+      if (flip_counter(b, {after[c[0]], after[c[1]], after[c[2]]}).state() != Flip_state::kept) flipped.push_back(f);
+    }
+    return flipped;
+  }
   using Point = typename boost::property_traits<VPM>::value_type;
   std::size_t faces_split = 0;  ///< by the split functions below
 
@@ -264,14 +283,9 @@ Deformation_report deform_coarse(TriangleMesh& tm, const Curve_network& network,
   for (const Correspondence& c : pairs) p[c.template_vertex] = network.point(c.network_vertex);
   // A mirror image (an affine part with negative determinant) flips every face: report it as an
   // orientation reversal rather than as many flips.
-  std::size_t judged = 0;
-  for (auto f : faces(tm)) {
-    const auto c = s.corners(f);
-    const Triangle_points b{before[c[0]], before[c[1]], before[c[2]]};
-    if (orientation_in_plane(b, b[0], b[1], b[2]) == CGAL::ZERO) continue;
-    ++judged;
-    if (flip_counter(b, {p[c[0]], p[c[1]], p[c[2]]}).state() != Flip_state::kept) ++report.coarse_flipped_faces;
-  }
+  std::size_t degenerate = 0;
+  report.coarse_flipped_faces = s.flipped_faces(before, p, degenerate).size();
+  const std::size_t judged = num_faces(tm) - degenerate;
   report.orientation_reversed = judged > 0 && 2 * report.coarse_flipped_faces > judged;
   s.set_positions(p);
   report.coarse_seconds = internal::seconds_since(t0);
@@ -403,20 +417,7 @@ Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
     for (const auto& [t, v] : placed) moved[t] = network.point(v);
     report.fine_pairs = placed.size();
 
-    std::vector<typename GT::face_descriptor> flipped;
-    report.degenerate_faces_skipped = 0;
-    for (auto f : faces(tm)) {
-      const auto c = s.corners(f);
-      const Triangle_points b{before[c[0]], before[c[1]], before[c[2]]};
-      // A face of zero area before the motion has no plane to flip in; subdividing it would not
-      // change that, so it is counted, not judged.
-      if (orientation_in_plane(b, b[0], b[1], b[2]) == CGAL::ZERO) {
-        ++report.degenerate_faces_skipped;
-        continue;
-      }
-      const Triangle_points a{moved[c[0]], moved[c[1]], moved[c[2]]};
-      if (flip_counter(b, a).state() != Flip_state::kept) flipped.push_back(f);
-    }
+    const auto flipped = s.flipped_faces(before, moved, report.degenerate_faces_skipped);
     report.flip_rounds = round + 1;
     report.flips_found += flipped.size();
     if (flipped.empty() || round + 1 >= max_rounds) {
