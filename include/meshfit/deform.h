@@ -12,6 +12,7 @@
 #include <meshfit/curve_network.h>
 #include <meshfit/exceptions.h>
 #include <meshfit/flip.h>
+#include <meshfit/internal/stage_support.h>
 #include <meshfit/internal/triangle_corners.h>
 #include <meshfit/parameters.h>
 #include <meshfit/rbf.h>
@@ -212,18 +213,6 @@ struct Deform_state {
   }
 };
 
-inline double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-template <typename Progress>
-void report_progress(const Progress& progress, const char* step, std::size_t index, std::size_t total) {
-  if constexpr (!std::is_same_v<Progress, CGAL::internal_np::Param_not_found>) {
-    if (!progress(Progress_step{"deform", step, index, total}))
-      throw Algorithm_failure("deform", "cancelled by the progress callback");
-  }
-}
-
 inline void check_pairs(const std::vector<Correspondence>& pairs, std::size_t template_vertices,
                         std::size_t template_faces, const Curve_network& network) {
   if (template_faces == 0) throw Invalid_input("deform: the template has no face");
@@ -235,14 +224,6 @@ inline void check_pairs(const std::vector<Correspondence>& pairs, std::size_t te
                                        std::to_string(template_vertices) + " template vertices, " +
                                        std::to_string(network.number_of_vertices()) + " network vertices");
   }
-}
-
-template <typename TriangleMesh, typename NamedParameters>
-auto vertex_point_map_of(TriangleMesh& tm, const NamedParameters& np) {
-  using CGAL::parameters::choose_parameter;
-  using CGAL::parameters::get_parameter;
-  return choose_parameter(get_parameter(np, CGAL::internal_np::vertex_point),
-                          get_property_map(CGAL::vertex_point, tm));
 }
 
 }  // namespace internal
@@ -265,7 +246,7 @@ Deformation_report deform_coarse(TriangleMesh& tm, const Curve_network& network,
   internal::Deform_state<TriangleMesh, decltype(internal::vertex_point_map_of(tm, np))> s(
       tm, internal::vertex_point_map_of(tm, np));
   internal::check_pairs(pairs, s.vertex.size(), num_faces(tm), network);
-  internal::report_progress(progress, "coarse: fitting the RBF through the user's pairs", 0, 2);
+  internal::report_progress(progress, "deform", "coarse: fitting the RBF through the user's pairs", 0, 2);
   std::vector<Point_3> centres, values;
   std::vector<Vector_3> normals;
   for (const Correspondence& c : pairs) {
@@ -276,7 +257,7 @@ Deformation_report deform_coarse(TriangleMesh& tm, const Curve_network& network,
   Deformation_report report;
   report.user_pairs = pairs.size();
   const Rbf_interpolant E = Rbf_interpolant::fit(centres, values, kernel, normals, &report.coarse_fit);
-  internal::report_progress(progress, "coarse: moving the template", 1, 2);
+  internal::report_progress(progress, "deform", "coarse: moving the template", 1, 2);
   const std::vector<Point_3> before = s.positions();
   std::vector<Point_3> p;
   E.evaluate(before, p);
@@ -393,14 +374,14 @@ Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
         refine_passes < max_refine_passes && assignment.losers.size() < last_losers) {
       ++refine_passes;
       last_losers = assignment.losers.size();
-      internal::report_progress(progress, "fine: refining where the curves are denser than the template",
+      internal::report_progress(progress, "deform", "fine: refining where the curves are denser than the template",
                                 refine_passes - 1, max_refine_passes);
       report.vertices_inserted_for_density += pin_at_projections(assignment.losers, {});
       --round;  // refinement is not a flip round
       continue;
     }
 
-    internal::report_progress(progress, "fine: RBF through the correspondences and flip detection", round,
+    internal::report_progress(progress, "deform", "fine: RBF through the correspondences and flip detection", round,
                               max_rounds);
     std::vector<Point_3> centres, values;
     std::vector<std::pair<std::size_t, std::size_t>> placed;  // (mesh vertex, network vertex)

@@ -10,6 +10,7 @@ namespace meshfit {
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Point_3 = Kernel::Point_3;
 using Vector_3 = Kernel::Vector_3;
+using Segment_3 = Kernel::Segment_3;
 using Bbox_3 = CGAL::Bbox_3;
 
 }  // namespace meshfit

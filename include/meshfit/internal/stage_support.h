@@ -1,0 +1,43 @@
+// meshfit: what every stage's front end needs: timing, the progress callback, the point map.
+#ifndef MESHFIT_INTERNAL_STAGE_SUPPORT_H
+#define MESHFIT_INTERNAL_STAGE_SUPPORT_H
+
+#include <meshfit/exceptions.h>
+#include <meshfit/parameters.h>
+
+#include <CGAL/Named_function_parameters.h>
+#include <CGAL/boost/graph/properties.h>
+
+#include <chrono>
+#include <cstddef>
+#include <type_traits>
+
+namespace meshfit {
+namespace internal {
+
+inline double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+/// Calls the `progress` named parameter, if given; a `false` answer cancels the stage.
+template <typename Progress>
+void report_progress(const Progress& progress, const char* stage, const char* step, std::size_t index,
+                     std::size_t total) {
+  if constexpr (!std::is_same_v<Progress, CGAL::internal_np::Param_not_found>) {
+    if (!progress(Progress_step{stage, step, index, total}))
+      throw Algorithm_failure(stage, "cancelled by the progress callback");
+  }
+}
+
+template <typename TriangleMesh, typename NamedParameters>
+auto vertex_point_map_of(TriangleMesh& tm, const NamedParameters& np) {
+  using CGAL::parameters::choose_parameter;
+  using CGAL::parameters::get_parameter;
+  return choose_parameter(get_parameter(np, CGAL::internal_np::vertex_point),
+                          get_property_map(CGAL::vertex_point, tm));
+}
+
+}  // namespace internal
+}  // namespace meshfit
+
+#endif  // MESHFIT_INTERNAL_STAGE_SUPPORT_H
