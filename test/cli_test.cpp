@@ -69,7 +69,7 @@ TEST_CASE("cli: usage errors exit with status 2 and stages not yet built say so"
   CHECK(run(dir, "check --template").status == 2);
   CHECK(run(dir, "check --template a.off --curves c.txt").status == 2);
   CHECK(run(dir, "check --template a.off --curves c.txt --correspondences p.txt --bogus").status == 2);
-  for (const char* stage : {"fit", "partition", "smooth"}) {
+  for (const char* stage : {"fit", "smooth"}) {
     const Run_result r = run(dir, std::string(stage) + " --template a.off --output o.obj");
     CHECK(r.status == 2);
     CHECK(r.err.find("not available yet") != std::string::npos);
@@ -143,4 +143,61 @@ TEST_CASE("cli: deform writes the deformed mesh and a report", "[cli][deform]") 
     CHECK(r.status == 1);
     CHECK(r.err.find("no face") != std::string::npos);
   }
+}
+
+TEST_CASE("cli: partition makes the deformed example's curves edges and labels 12 regions", "[cli][partition]") {
+  Temp_dir dir;
+  const std::string d = MESHFIT_EXAMPLE_DATA_DIR;
+  const std::string curves = q(d + "/curves.polylines.txt");
+  REQUIRE(run(dir, "deform --quiet --template " + q(d + "/template.off") + " --curves " + curves +
+                       " --correspondences " + q(d + "/pairs.txt") + " --output " + q(dir.file("deformed.ply")))
+              .status == 0);
+  const meshfit::Mesh_data before = meshfit::read_mesh_data(dir.file("deformed.ply"));
+  SECTION("to PLY with a report") {
+    const Run_result r = run(dir, "partition --template " + q(dir.file("deformed.ply")) + " --curves " + curves +
+                                      " --output " + q(dir.file("p.ply")) + " --report " + q(dir.file("p.json")));
+    INFO(r.err);
+    CHECK(r.status == 0);
+    CHECK(r.err.find("meshfit: partition: labelling regions") != std::string::npos);
+    const meshfit::Mesh_data m = meshfit::read_mesh_data(dir.file("p.ply"));
+    CHECK(m.points.size() == before.points.size());
+    CHECK(m.triangles.size() == before.triangles.size());
+    CHECK(m.curve_edges.size() == 220);
+    REQUIRE(m.face_patch.size() == m.triangles.size());
+    CHECK(*std::max_element(m.face_patch.begin(), m.face_patch.end()) == 11);
+    const std::string json = read_text(dir.file("p.json"));
+    CHECK(json.find("\"regions\": 12") != std::string::npos);
+    CHECK(json.find("\"segments_not_embedded\": 0") != std::string::npos);
+  }
+  SECTION("to OBJ, quietly") {
+    const Run_result r = run(dir, "partition --quiet --template " + q(dir.file("deformed.ply")) + " --curves " + curves +
+                                      " --output " + q(dir.file("p.obj")));
+    CHECK(r.status == 0);
+    CHECK(r.err.empty());
+    const std::string obj = read_text(dir.file("p.obj"));
+    CHECK(obj.find("g region_11") != std::string::npos);
+    CHECK(std::count(obj.begin(), obj.end(), 'l') >= 220);
+  }
+  SECTION("curves that are not on the mesh: status 1 naming the network vertex") {
+    const Run_result r = run(dir, "partition --template " + q(d + "/template.off") + " --curves " + curves +
+                                      " --output " + q(dir.file("x.off")));
+    CHECK(r.status == 1);
+    CHECK(r.err.find("network vertex 0 (") != std::string::npos);
+    CHECK(r.err.find("curves.polylines.txt") != std::string::npos);
+    CHECK_FALSE(std::filesystem::exists(dir.file("x.off")));
+  }
+}
+
+TEST_CASE("cli: partition reports curves that cross without a shared vertex: status 3, no output", "[cli][partition]") {
+  Temp_dir dir;
+  meshfit::Mesh_data grid = meshfit_test::grid(4);
+  meshfit::write_mesh_data(dir.file("grid.off"), grid);
+  // (0,1)-(4,3) cuts the sheet from side to side; (0,3)-(4,1) has an end on each side of it.
+  const std::string curves = dir.write("c.polylines.txt", "2 0 1 0 4 3 0\n2 0 3 0 4 1 0\n");
+  const Run_result r = run(dir, "partition --template " + q(dir.file("grid.off")) + " --curves " + q(curves) +
+                                    " --output " + q(dir.file("o.ply")) + " --report " + q(dir.file("o.json")));
+  CHECK(r.status == 3);
+  CHECK(r.err.find("1 of 2 segments could not be made mesh edges") != std::string::npos);
+  CHECK_FALSE(std::filesystem::exists(dir.file("o.ply")));
+  CHECK(read_text(dir.file("o.json")).find("\"not_embedded_segments\": [1]") != std::string::npos);
 }

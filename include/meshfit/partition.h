@@ -46,6 +46,7 @@
 #include <limits>
 #include <map>
 #include <queue>
+#include <sstream>
 #include <unordered_map>
 #include <vector>
 
@@ -495,18 +496,20 @@ inline std::vector<std::size_t> match_network_vertices(const std::vector<Point_3
                                                        const Curve_network& network) {
   const Closest_point_assignment a = closest_point_correspondences(mesh_points, network);
   for (std::size_t v = 0; v < network.number_of_vertices(); ++v) {
-    const Point_3& p = network.point(v);
-    const std::string where = "network vertex " + std::to_string(v) + " (" + std::to_string(p.x()) + " " +
-                              std::to_string(p.y()) + " " + std::to_string(p.z()) + ")";
+    std::ostringstream where;
+    where.precision(17);
+    where << "network vertex " << v << " (" << network.point(v) << ")";
     const std::size_t t = a.template_of[v];
     if (t == Closest_point_assignment::unassigned)
-      throw Invalid_input(where + " shares its nearest mesh vertex with another network vertex: it is not a "
-                                  "vertex of the mesh (deform the template first)");
-    const double d = std::sqrt(CGAL::squared_distance(p, mesh_points[t]));
-    if (d > network.tolerance())
-      throw Invalid_input(where + " is not a vertex of the mesh: the nearest mesh vertex, " + std::to_string(t) +
-                          ", is " + std::to_string(d) + " away (more than the merge tolerance " +
-                          std::to_string(network.tolerance()) + "; deform the template first)");
+      throw Invalid_input(where.str() + " shares its nearest mesh vertex with another network vertex: it is not a "
+                                        "vertex of the mesh (deform the template first)");
+    const double d = std::sqrt(CGAL::squared_distance(network.point(v), mesh_points[t]));
+    if (d > network.tolerance()) {
+      where.precision(3);
+      where << " is not a vertex of the mesh: the nearest mesh vertex, " << t << ", is " << d
+            << " away, more than the merge tolerance " << network.tolerance() << " (deform the template first)";
+      throw Invalid_input(where.str());
+    }
   }
   return a.template_of;
 }

@@ -4,6 +4,7 @@
 #include <meshfit/deform.h>
 #include <meshfit/exceptions.h>
 #include <meshfit/io.h>
+#include <meshfit/partition.h>
 #include <meshfit/version.h>
 
 #include "../write_file.h"
@@ -152,22 +153,58 @@ double minimum_angle_degrees(const meshfit::Mesh_data& m) {
   return best;
 }
 
+/// Checks the output paths before any work: the mesh output's format, and neither it nor the
+/// report is an input or the other. Returns the report path ("" when none).
+std::string check_outputs(const Command_line& cl, const std::vector<std::string>& inputs) {
+  const std::string& output = cl.values.at("--output");
+  meshfit::mesh_format_of(output);
+  meshfit::check_output_path(output, inputs);
+  if (!cl.values.count("--report")) return "";
+  const std::string& report_path = cl.values.at("--report");
+  meshfit::check_output_path(report_path, inputs);
+  meshfit::check_output_path(output, {report_path});
+  return report_path;
+}
+
+void write_report(const std::string& report_path, const std::string& text) {
+  if (!report_path.empty())
+    meshfit::internal::write_file_atomically(report_path, [&](std::ostream& os) { os << text; });
+}
+
+/// Writes the output mesh, never over an input or the report.
+void write_output(const Command_line& cl, const meshfit::Mesh_data& out, const std::vector<std::string>& inputs,
+                  const std::string& report_path) {
+  meshfit::Write_options options;
+  options.protected_paths = inputs;
+  if (!report_path.empty()) options.protected_paths.push_back(report_path);
+  meshfit::write_mesh_data(cl.values.at("--output"), out, options);
+  if (!cl.quiet)
+    std::cerr << "meshfit: " << cl.command << ": wrote " << cl.values.at("--output") << " (" << out.points.size()
+              << " vertices, " << out.triangles.size() << " faces)\n";
+}
+
+meshfit::Progress_callback progress_printer(bool quiet) {
+  return [quiet](const meshfit::Progress_step& s) {
+    if (!quiet) std::cerr << "meshfit: " << s.stage << ": " << s.step << " (" << s.index + 1 << "/" << s.total << ")\n";
+    return true;
+  };
+}
+
+std::string json_quality(const meshfit::Mesh_data& out) {
+  std::ostringstream js;
+  js << "{\"vertices\": " << out.points.size() << ", \"faces\": " << out.triangles.size()
+     << ", \"minimum_angle_deg\": " << json_number(minimum_angle_degrees(out)) << "}";
+  return js.str();
+}
+
 int run_deform(const Command_line& cl) {
   require(cl, {"--template", "--curves", "--correspondences", "--output"},
           {"--report", "--merge-tolerance", "--kernel", "--curve-density", "--max-rounds"});
   const std::string& template_path = cl.values.at("--template");
   const std::string& curves_path = cl.values.at("--curves");
   const std::string& pairs_path = cl.values.at("--correspondences");
-  const std::string& output = cl.values.at("--output");
   const std::vector<std::string> inputs{template_path, curves_path, pairs_path};
-  meshfit::mesh_format_of(output);
-  meshfit::check_output_path(output, inputs);
-  std::string report_path;
-  if (cl.values.count("--report")) {
-    report_path = cl.values.at("--report");
-    meshfit::check_output_path(report_path, inputs);
-    meshfit::check_output_path(output, {report_path});
-  }
+  const std::string report_path = check_outputs(cl, inputs);
 
   meshfit::Rbf_kernel kernel = meshfit::Rbf_kernel::linear;
   if (cl.values.count("--kernel")) {
@@ -206,10 +243,7 @@ int run_deform(const Command_line& cl) {
   const double read_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   const bool quiet = cl.quiet;
-  auto progress = [quiet](const meshfit::Progress_step& s) {
-    if (!quiet) std::cerr << "meshfit: " << s.stage << ": " << s.step << " (" << s.index + 1 << "/" << s.total << ")\n";
-    return true;
-  };
+  const meshfit::Progress_callback progress = progress_printer(quiet);
   meshfit::Deformation_report r;
   std::string failure;  // a numerical failure, reported with the figures gathered so far
   try {
@@ -242,10 +276,8 @@ int run_deform(const Command_line& cl) {
        << ", \"network_vertices_dropped\": " << r.dropped_network_vertices.size() << "},\n"
        << "  \"residuals\": {\"coarse\": " << json_number(r.coarse_fit.relative_residual) << ", \"fine\": "
        << json_number(r.fine_fit.relative_residual) << "},\n"
-       << "  \"quality\": {\"vertices\": " << out.points.size() << ", \"faces\": " << out.triangles.size()
-       << ", \"minimum_angle_deg\": " << json_number(minimum_angle_degrees(out)) << "}\n}\n";
-    const std::string text = js.str();
-    meshfit::internal::write_file_atomically(report_path, [&](std::ostream& os) { os << text; });
+       << "  \"quality\": " << json_quality(out) << "\n}\n";
+    write_report(report_path, js.str());
   }
   if (!failure.empty()) throw meshfit::Algorithm_failure("deform", failure);
   if (r.orientation_reversed)
@@ -266,13 +298,72 @@ int run_deform(const Command_line& cl) {
   if (!quiet && r.coarse_flipped_faces > 0)
     std::cerr << "meshfit: deform: warning: the coarse level flips " << r.coarse_flipped_faces
               << " faces; the fine level does not unflip them (more or better-spread pairs help)\n";
-  meshfit::Write_options options;
-  options.protected_paths = inputs;
-  if (!report_path.empty()) options.protected_paths.push_back(report_path);
-  meshfit::write_mesh_data(output, out, options);
-  if (!quiet)
-    std::cerr << "meshfit: deform: wrote " << output << " (" << out.points.size() << " vertices, "
-              << out.triangles.size() << " faces)\n";
+  write_output(cl, out, inputs, report_path);
+  return success;
+}
+
+int run_partition(const Command_line& cl) {
+  require(cl, {"--template", "--curves", "--output"}, {"--report", "--merge-tolerance"});
+  const std::string& mesh_path = cl.values.at("--template");
+  const std::string& curves_path = cl.values.at("--curves");
+  const std::vector<std::string> inputs{mesh_path, curves_path};
+  const std::string report_path = check_outputs(cl, inputs);
+
+  using Mesh = CGAL::Surface_mesh<meshfit::Point_3>;
+  Mesh tm;
+  const auto t0 = std::chrono::steady_clock::now();
+  meshfit::read_triangle_mesh(mesh_path, tm);
+  const meshfit::Curve_network network = meshfit::read_curve_network(curves_path, merge_tolerance(cl));
+  if (tm.number_of_faces() == 0)
+    throw meshfit::Invalid_input(meshfit::Input_location{mesh_path, 0, meshfit::Input_location::no_offset},
+                                 "the mesh has no face");
+  const double read_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+  auto curve = tm.add_property_map<Mesh::Edge_index, bool>("e:meshfit_curve", false).first;
+  auto region = tm.add_property_map<Mesh::Face_index, int>("f:meshfit_region", 0).first;
+  meshfit::Partition_report r;
+  try {
+    r = meshfit::partition_mesh(tm, network, meshfit::parameters::progress(progress_printer(cl.quiet),
+        CGAL::parameters::edge_is_constrained_map(curve).face_patch_map(region)));
+  } catch (const meshfit::Invalid_input& e) {
+    // A network vertex that is not a mesh vertex: name the files.
+    throw meshfit::Invalid_input(meshfit::Input_location{curves_path, 0, meshfit::Input_location::no_offset},
+                                 std::string(e.what()) + " (mesh " + mesh_path + ")");
+  }
+  const meshfit::Mesh_data out =
+      meshfit::to_mesh_data(tm, CGAL::parameters::edge_is_constrained_map(curve).face_patch_map(region));
+
+  std::ostringstream js;
+  js << "{\n  \"command\": \"partition\",\n  \"meshfit_version\": \"" << MESHFIT_VERSION_STRING << "\",\n"
+     << "  \"completed\": " << (r.not_embedded.empty() ? "true" : "false") << ",\n"
+     << "  \"timings_s\": {\"read\": " << json_number(read_s) << ", \"partition\": " << json_number(r.seconds) << "},\n"
+     << "  \"counts\": {\"segments\": " << r.segments << ", \"segments_already_edges\": " << r.existing_edges
+     << ", \"segments_embedded_by_walk\": " << r.by_walk << ", \"segments_embedded_by_fallback\": " << r.by_fallback
+     << ", \"segments_not_embedded\": " << r.not_embedded.size() << ", \"walks_failed\": " << r.walks_failed
+     << ", \"faces_crossed\": " << r.faces_crossed << ", \"edge_flips\": " << r.edge_flips
+     << ", \"vertices_moved\": " << r.vertices_moved << ", \"curve_edges\": " << r.curve_edges
+     << ", \"regions\": " << r.regions << "},\n"
+     << "  \"not_embedded_segments\": [";
+  for (std::size_t i = 0; i < r.not_embedded.size(); ++i) js << (i ? ", " : "") << r.not_embedded[i];
+  js << "],\n  \"quality\": " << json_quality(out) << "\n}\n";
+  write_report(report_path, js.str());
+
+  if (!r.not_embedded.empty()) {
+    std::string list;
+    for (std::size_t i = 0; i < r.not_embedded.size() && i < 10; ++i) {
+      const auto& sg = network.segments()[r.not_embedded[i]];
+      list += (i ? ", " : "") + std::to_string(r.not_embedded[i]) + " (network vertices " + std::to_string(sg[0]) +
+              "-" + std::to_string(sg[1]) + ")";
+    }
+    if (r.not_embedded.size() > 10) list += ", …";
+    throw meshfit::Algorithm_failure(
+        "partition", std::to_string(r.not_embedded.size()) + " of " + std::to_string(r.segments) +
+                         " segments could not be made mesh edges without folding the mesh: segments " + list);
+  }
+  if (!cl.quiet)
+    std::cerr << "meshfit: partition: " << r.segments << " segments: " << r.existing_edges << " already edges, "
+              << r.by_walk << " by walk, " << r.by_fallback << " by fallback; " << r.regions << " regions\n";
+  write_output(cl, out, inputs, report_path);
   return success;
 }
 
@@ -298,7 +389,7 @@ int main(int argc, char** argv) {
     if (cl.command == "check") return run_check(cl);
     if (cl.command == "fit") return not_available(cl, "the full pipeline");
     if (cl.command == "deform") return run_deform(cl);
-    if (cl.command == "partition") return not_available(cl, "stage 2 (partitioning)");
+    if (cl.command == "partition") return run_partition(cl);
     if (cl.command == "smooth") return not_available(cl, "stage 3 (smoothing)");
     throw Usage_error{"unknown command '" + cl.command + "'"};
   } catch (const Usage_error& e) {
