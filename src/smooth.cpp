@@ -53,44 +53,54 @@ struct Topology {
   double mean_edge = 0;
 
   Topology(const Smoothing_arrays& m) : n(m.fixed.size()), nf(m.triangles.size()) {
-    // Half-edges (opposite corner k of face f) sorted by their undirected edge.
-    struct Side {
-      std::uint32_t a, b, f;
-      std::uint8_t k;
-    };
-    std::vector<Side> sides;
-    sides.reserve(3 * nf);
+    // Half-edges a → b (opposite corner k of face f), listed by their source vertex; the twin
+    // b → a is found in b's short list. Linear time: sorting the 3·nf half-edges instead cost
+    // as much as five smoothing iterations.
+    std::vector<std::uint32_t> out_start(n + 1, 0);
+    for (const auto& t : m.triangles)
+      for (std::uint32_t v : t) ++out_start[v + 1];
+    std::partial_sum(out_start.begin(), out_start.end(), out_start.begin());
+    std::vector<std::uint32_t> out_target(3 * nf), out_half(3 * nf), fill(out_start.begin(), out_start.end() - 1);
     for (std::size_t f = 0; f < nf; ++f)
-      for (std::uint8_t k = 0; k < 3; ++k) {
-        std::uint32_t a = m.triangles[f][(k + 1) % 3], b = m.triangles[f][(k + 2) % 3];
-        if (a > b) std::swap(a, b);
-        sides.push_back({a, b, std::uint32_t(f), k});
+      for (std::size_t k = 0; k < 3; ++k) {
+        const std::uint32_t a = m.triangles[f][(k + 1) % 3], b = m.triangles[f][(k + 2) % 3];
+        out_target[fill[a]] = b;
+        out_half[fill[a]++] = std::uint32_t(3 * f + k);
       }
-    std::sort(sides.begin(), sides.end(), [](const Side& s, const Side& t) {
-      return s.a != t.a ? s.a < t.a : s.b != t.b ? s.b < t.b : s.f < t.f;
-    });
     std::vector<std::array<std::uint32_t, 2>> constrained = m.constrained_edges;
     for (auto& e : constrained)
       if (e[0] > e[1]) std::swap(e[0], e[1]);
     std::sort(constrained.begin(), constrained.end());
     face_edge.assign(nf, {0, 0, 0});
     face_adj.assign(nf, {no_face, no_face, no_face});
-    for (std::size_t i = 0; i < sides.size();) {
-      std::size_t j = i;
-      while (j < sides.size() && sides[j].a == sides[i].a && sides[j].b == sides[i].b) ++j;
-      const std::uint32_t e = std::uint32_t(edge_vertices.size());
-      edge_vertices.push_back({sides[i].a, sides[i].b});
-      for (std::size_t s = i; s < j; ++s) face_edge[sides[s].f][sides[s].k] = e;
-      // Faces are adjacent across a manifold edge that is not a curve: the projection walks
-      // stay inside a region and never leave the surface through its rim.
-      const bool curve = std::binary_search(constrained.begin(), constrained.end(),
-                                            std::array<std::uint32_t, 2>{sides[i].a, sides[i].b});
-      if (j - i == 2 && !curve) {
-        face_adj[sides[i].f][sides[i].k] = sides[i + 1].f;
-        face_adj[sides[i + 1].f][sides[i + 1].k] = sides[i].f;
+    constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
+    auto twin_of = [&](std::uint32_t a, std::uint32_t b) {
+      std::uint32_t twin = none, count = 0;
+      for (std::uint32_t j = out_start[b]; j < out_start[b + 1]; ++j)
+        if (out_target[j] == a) {
+          twin = out_half[j];
+          ++count;
+        }
+      return count == 1 ? twin : none;  // more than one: a non-manifold edge, no neighbour
+    };
+    for (std::uint32_t a = 0; a < n; ++a)
+      for (std::uint32_t j = out_start[a]; j < out_start[a + 1]; ++j) {
+        const std::uint32_t b = out_target[j], h = out_half[j];
+        const std::uint32_t twin = twin_of(a, b);
+        if (twin != none && a > b) continue;  // the twin's owner numbers the edge
+        const std::uint32_t e = std::uint32_t(edge_vertices.size());
+        edge_vertices.push_back({std::min(a, b), std::max(a, b)});
+        face_edge[h / 3][h % 3] = e;
+        if (twin == none) continue;
+        face_edge[twin / 3][twin % 3] = e;
+        // Faces are adjacent across a manifold edge that is not a curve: the projection walks
+        // stay inside a region and never leave the surface through its rim.
+        if (!constrained.empty() &&
+            std::binary_search(constrained.begin(), constrained.end(), edge_vertices.back()))
+          continue;
+        face_adj[h / 3][h % 3] = twin / 3;
+        face_adj[twin / 3][twin % 3] = h / 3;
       }
-      i = j;
-    }
     nbr_start.assign(n + 1, 0);
     for (const auto& e : edge_vertices) {
       ++nbr_start[e[0] + 1];
@@ -99,7 +109,7 @@ struct Topology {
     std::partial_sum(nbr_start.begin(), nbr_start.end(), nbr_start.begin());
     nbr.resize(nbr_start[n]);
     nbr_edge.resize(nbr_start[n]);
-    std::vector<std::uint32_t> fill(nbr_start.begin(), nbr_start.end() - 1);
+    fill.assign(nbr_start.begin(), nbr_start.end() - 1);
     for (std::size_t e = 0; e < edge_vertices.size(); ++e) {
       const auto [a, b] = edge_vertices[e];
       nbr[fill[a]] = b;
@@ -249,6 +259,14 @@ void run_flow(Smoothing_arrays& m, const Flow_settings& s, Smoothing_report& rep
   // busy machine every barrier of a small mesh's step can cost a scheduler time slice.
   const bool parallel = n >= 50000;
 
+  // The normals of the faces at the call (zero for a face of zero area), for the flip guard.
+  std::vector<double> initial_normal(3 * nf);
+  for (std::size_t f = 0; f < nf; ++f) {
+    const auto& tri = m.triangles[f];
+    const V3 a = load(oriented.data(), tri[0]), b = load(oriented.data(), tri[1]), c = load(oriented.data(), tri[2]);
+    store(initial_normal.data(), f, cross(b - a, c - a));
+  }
+
   // Each vertex's face of the reference surface (the modified Laplacian walks on from there).
   std::vector<std::uint32_t> home(n, no_face);
   for (std::size_t i = 0; i < n; ++i)
@@ -395,23 +413,25 @@ void run_flow(Smoothing_arrays& m, const Flow_settings& s, Smoothing_report& rep
       // A face must not turn into a needle either (that is how a flip starts, and a needle's
       // cotangents are clamped): its shape figure |n| / (longest edge)², about the sine of its
       // smallest angle, may not fall below needle_shape, or below what it was if it already was.
-      // Compared without division, so that an unmoved face always passes.
+      // Compared squared and without division, so that an unmoved face always passes.
       const double e0 = std::max({dot(b - a, b - a), dot(c - b, c - b), dot(a - c, a - c)});
       const double e1 = std::max({dot(nb - na, nb - na), dot(nc - nb, nc - nb), dot(na - nc, na - nc)});
-      if (!(std::sqrt(l1) * e0 >= std::min(std::sqrt(l0), needle_shape * e0) * e1)) return true;
-      // The filter: a normal turning by less than about 89.9° is kept; otherwise the exact
-      // orientation of the moved triangle in the plane of the old one decides. Judged against
-      // the previous iteration and against the positions at the call: small turns add up over
-      // iterations, and the promise is that no face is reversed with respect to the input.
+      if (!(l1 * (e0 * e0) >= std::min(l0, needle_shape * needle_shape * (e0 * e0)) * (e1 * e1))) return true;
+      // The filter: a normal turning by less than about 89.9° (cos > 1e-3) is kept; otherwise the
+      // exact orientation of the moved triangle in the plane of the old one decides. Judged
+      // against the previous iteration and against the positions at the call: small turns add
+      // up over iterations, and the promise is that no face is reversed with respect to the input.
       const Triangle_points after{Point_3(na.x, na.y, na.z), Point_3(nb.x, nb.y, nb.z), Point_3(nc.x, nc.y, nc.z)};
-      if (!(dot(n0, n1) > 1e-3 * std::sqrt(l0 * l1))) {
+      const double d0 = dot(n0, n1);
+      if (!(d0 > 0 && d0 * d0 > 1e-6 * l0 * l1)) {
         const Triangle_points before{Point_3(a.x, a.y, a.z), Point_3(b.x, b.y, b.z), Point_3(c.x, c.y, c.z)};
         if (orientation_flip_test(before, after) != Flip_state::kept) return true;
       }
-      const V3 ia = load(oriented.data(), tri[0]), ib = load(oriented.data(), tri[1]), ic = load(oriented.data(), tri[2]);
-      const V3 ni = cross(ib - ia, ic - ia);
+      const V3 ni = load(initial_normal.data(), f);
+      const double di = dot(ni, n1);
       const double li = dot(ni, ni);
-      if (!(li > 0) || dot(ni, n1) > 1e-3 * std::sqrt(li * l1)) return false;
+      if (!(li > 0) || (di > 0 && di * di > 1e-6 * li * l1)) return false;
+      const V3 ia = load(oriented.data(), tri[0]), ib = load(oriented.data(), tri[1]), ic = load(oriented.data(), tri[2]);
       const Triangle_points initial{Point_3(ia.x, ia.y, ia.z), Point_3(ib.x, ib.y, ib.z), Point_3(ic.x, ic.y, ic.z)};
       return orientation_flip_test(initial, after) != Flip_state::kept;
     };
