@@ -2,7 +2,9 @@
 # Runs meshfit's benchmarks beside their peers in one run and prints a comparison table:
 #   - RBF fit + evaluation against SciPy's RBFInterpolator (same kernel, degree 1, same data),
 #     n centres x m points, with the largest difference of the results;
-#   - closest-point correspondences (k-d tree) against brute force.
+#   - closest-point correspondences (k-d tree) against brute force;
+#   - smoothing: meshfit's modified Laplacian step and combined method against CGAL's
+#     tangential_relaxation and smooth_shape on the same noisy 1e5- and 1e6-vertex spheres.
 # Installs what it needs (Debian's python3-scipy on OpenBLAS). Usage: bench/run_benchmarks.sh [build-dir]
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -49,3 +51,16 @@ line=$("$build/bench/closest_point_bench" 20000 1000000)
 field() { echo "$1" | tr ' ' '\n' | grep "^$2=" | cut -d= -f2; }
 t=$(field "$line" tree_s); b=$(field "$line" brute_s); a=$(field "$line" agree)
 echo "| n=20000, m=1000000 | $t | $b | $(awk -v t="$t" -v b="$b" 'BEGIN { printf "%.1fx", b / t }') | $a |"
+echo
+echo "Smoothing (stage 3), noisy geodesic sphere, $(nproc) threads: time per vertex and iteration, volume change, triangle quality"
+echo "| vertices | method | iterations | µs/vertex/iteration | tangential_relaxation / this | volume change % | min angle ° | std-dev of min angles ° |"
+echo "|---:|---|---:|---:|---:|---:|---:|---:|"
+for spec in "100 10 2" "316 10 1"; do
+  out=$("$build/bench/smooth_bench" $spec)
+  tr=$(echo "$out" | grep "method=cgal_tangential_relaxation" | tr ' ' '\n' | grep "^us_per_vertex_iteration=" | cut -d= -f2)
+  echo "$out" | grep "^method=" | while read -r line; do
+    field() { echo "$line" | tr ' ' '\n' | grep "^$1=" | cut -d= -f2; }
+    us=$(field us_per_vertex_iteration)
+    echo "| $(field n) | $(field method) | $(field iterations) | $us | $(awk -v a="$tr" -v b="$us" 'BEGIN { printf "%.1fx", a / b }') | $(field volume_change_pct) | $(field min_angle) | $(field angle_sd) |"
+  done
+done

@@ -2,6 +2,8 @@
 #include "malformed_catalogue.h"
 #include "test_helpers.h"
 
+#include <meshfit/curve_network.h>
+
 #include <sys/wait.h>
 
 using namespace meshfit_test;
@@ -69,7 +71,7 @@ TEST_CASE("cli: usage errors exit with status 2 and stages not yet built say so"
   CHECK(run(dir, "check --template").status == 2);
   CHECK(run(dir, "check --template a.off --curves c.txt").status == 2);
   CHECK(run(dir, "check --template a.off --curves c.txt --correspondences p.txt --bogus").status == 2);
-  for (const char* stage : {"fit", "smooth"}) {
+  for (const char* stage : {"fit"}) {
     const Run_result r = run(dir, std::string(stage) + " --template a.off --output o.obj");
     CHECK(r.status == 2);
     CHECK(r.err.find("not available yet") != std::string::npos);
@@ -200,4 +202,71 @@ TEST_CASE("cli: partition reports curves that cross without a shared vertex: sta
   CHECK(r.err.find("1 of 2 segments could not be made mesh edges") != std::string::npos);
   CHECK_FALSE(std::filesystem::exists(dir.file("o.ply")));
   CHECK(read_text(dir.file("o.json")).find("\"not_embedded_segments\": [1]") != std::string::npos);
+
+TEST_CASE("cli: smooth holds the curves fixed and keeps regions and curve edges", "[cli][smooth]") {
+  Temp_dir dir;
+  const std::string d = MESHFIT_EXAMPLE_DATA_DIR;
+  const std::string curves = d + "/curves.polylines.txt";
+  const std::string deformed = dir.file("deformed.ply");
+  REQUIRE(run(dir, "deform --quiet --template " + q(d + "/template.off") + " --curves " + q(curves) +
+                       " --correspondences " + q(d + "/pairs.txt") + " --output " + q(deformed)).status == 0);
+  const meshfit::Mesh_data before = meshfit::read_mesh_data(deformed);
+  const meshfit::Curve_network network = meshfit::read_curve_network(curves);
+  std::vector<std::size_t> on_curves;
+  for (std::size_t i = 0; i < before.points.size(); ++i)
+    if (network.find_vertex(before.points[i])) on_curves.push_back(i);
+  REQUIRE(on_curves.size() == network.number_of_vertices());
+
+  SECTION("with --curves: network vertices fixed, curve edges written") {
+    const Run_result r = run(dir, "smooth --template " + q(deformed) + " --curves " + q(curves) + " --output " +
+                                      q(dir.file("s.ply")) + " --report " + q(dir.file("s.json")));
+    INFO(r.err);
+    CHECK(r.status == 0);
+    CHECK(r.err.find("meshfit: smooth: ") != std::string::npos);
+    const meshfit::Mesh_data after = meshfit::read_mesh_data(dir.file("s.ply"));
+    REQUIRE(after.points.size() == before.points.size());
+    CHECK(after.triangles == before.triangles);
+    for (std::size_t i : on_curves) CHECK(after.points[i] == before.points[i]);
+    std::size_t moved = 0;
+    for (std::size_t i = 0; i < after.points.size(); ++i) moved += after.points[i] != before.points[i];
+    CHECK(moved > before.points.size() / 2);
+    CHECK(!after.curve_edges.empty());
+    const std::string json = read_text(dir.file("s.json"));
+    CHECK(json.find("\"completed\": true") != std::string::npos);
+    CHECK(json.find("\"iterations\": 100") != std::string::npos);
+    CHECK(json.find("\"network_vertices_on_mesh\": " + std::to_string(network.number_of_vertices())) != std::string::npos);
+
+    SECTION("a .ply with curve edges and regions: its curve edges are the constraints") {
+      meshfit::Mesh_data tagged = after;
+      tagged.face_patch.assign(tagged.triangles.size(), 0);
+      for (std::size_t f = 0; f < tagged.triangles.size(); ++f) tagged.face_patch[f] = int(f % 3);
+      meshfit::write_mesh_data(dir.file("tagged.ply"), tagged);
+      const Run_result again = run(dir, "smooth --quiet --iterations 10 --step 0.5 --template " + q(dir.file("tagged.ply")) +
+                                            " --output " + q(dir.file("again.ply")));
+      INFO(again.err);
+      CHECK(again.status == 0);
+      CHECK(again.err.empty());
+      const meshfit::Mesh_data out = meshfit::read_mesh_data(dir.file("again.ply"));
+      CHECK(out.face_patch == tagged.face_patch);
+      CHECK(out.curve_edges.size() == tagged.curve_edges.size());
+      for (const auto& e : tagged.curve_edges) {
+        CHECK(out.points[e[0]] == tagged.points[e[0]]);
+        CHECK(out.points[e[1]] == tagged.points[e[1]]);
+      }
+    }
+  }
+  SECTION("usage errors and bad input") {
+    const std::string args = " --template " + q(deformed) + " --output " + q(dir.file("o.off"));
+    CHECK(run(dir, "smooth" + args + " --step 2").status == 2);
+    CHECK(run(dir, "smooth" + args + " --step 0").status == 2);
+    CHECK(run(dir, "smooth" + args + " --iterations -1").status == 2);
+    CHECK(run(dir, "smooth" + args + " --mc-iterations many").status == 2);
+    CHECK(run(dir, "smooth" + args + " --correspondences p.txt").status == 2);
+    CHECK(run(dir, "smooth --template " + q(deformed)).status == 2);
+    CHECK(run(dir, "smooth --template " + q(deformed) + " --output " + q(deformed)).status == 1);
+    CHECK(run(dir, "smooth --template " + q(dir.file("none.off")) + " --output " + q(dir.file("o.off"))).status == 1);
+    const Run_result zero = run(dir, "smooth --quiet --iterations 0" + args);
+    CHECK(zero.status == 0);
+    CHECK(meshfit::read_mesh_data(dir.file("o.off")).points == before.points);
+  }
 }

@@ -16,8 +16,16 @@
 //   | rbf_kernel        | meshfit::Rbf_kernel                     | Rbf_kernel::linear (φ(r) = r)  |
 //   | curve_density     | meshfit::Curve_density                  | Curve_density::refine          |
 //   | coarse_only       | bool: deform_template stops after coarse| false                          |
+//   | step_size         | double λ in (0, 1] (smooth.h)           | 1                              |
+//   | laplacian_weights | meshfit::Laplacian_weights              | Laplacian_weights::uniform     |
+//   | laplacian_variant | meshfit::Laplacian_variant (eq. 4.5/4.6)| Laplacian_variant::none        |
+//   | laplacian_alpha   | double α in [0, 1] (eq. 4.5/4.6)        | 0.5                            |
+//   | reference_points  | std::vector<Point_3>, one per vertex    | the positions at the call      |
+//   | mean_curvature_iterations | smooth_mesh's first phase       | number_of_iterations / 5 (20)  |
+//   | laplacian_iterations      | smooth_mesh's second phase      | the rest (80)                  |
 // CGAL parameters meshfit reads: vertex_point_map; number_of_iterations (deform: the most flip
-// prevention rounds, default 10); face_patch_map and edge_is_constrained_map (io).
+// prevention rounds, default 10; smooth: the iterations); face_patch_map and
+// edge_is_constrained_map (io; smooth: curve edges); vertex_is_constrained_map (smooth).
 #ifndef MESHFIT_PARAMETERS_H
 #define MESHFIT_PARAMETERS_H
 
@@ -46,6 +54,13 @@ enum input_file_name_t { input_file_name };
 enum rbf_kernel_t { rbf_kernel };
 enum curve_density_t { curve_density };
 enum coarse_only_t { coarse_only };
+enum step_size_t { step_size };
+enum laplacian_weights_t { laplacian_weights };
+enum laplacian_variant_t { laplacian_variant };
+enum laplacian_alpha_t { laplacian_alpha };
+enum reference_points_t { reference_points };
+enum mean_curvature_iterations_t { mean_curvature_iterations };
+enum laplacian_iterations_t { laplacian_iterations };
 }  // namespace internal_np
 
 namespace parameters {
@@ -71,6 +86,13 @@ MESHFIT_NAMED_PARAMETER(input_file_name)
 MESHFIT_NAMED_PARAMETER(rbf_kernel)
 MESHFIT_NAMED_PARAMETER(curve_density)
 MESHFIT_NAMED_PARAMETER(coarse_only)
+MESHFIT_NAMED_PARAMETER(step_size)
+MESHFIT_NAMED_PARAMETER(laplacian_weights)
+MESHFIT_NAMED_PARAMETER(laplacian_variant)
+MESHFIT_NAMED_PARAMETER(laplacian_alpha)
+MESHFIT_NAMED_PARAMETER(reference_points)
+MESHFIT_NAMED_PARAMETER(mean_curvature_iterations)
+MESHFIT_NAMED_PARAMETER(laplacian_iterations)
 
 #undef MESHFIT_NAMED_PARAMETER
 

@@ -5,6 +5,7 @@
 #include <meshfit/exceptions.h>
 #include <meshfit/io.h>
 #include <meshfit/partition.h>
+#include <meshfit/smooth.h>
 #include <meshfit/version.h>
 
 #include "../write_file.h"
@@ -45,6 +46,14 @@ const char* const usage_text =
     "                       (the template keeps its size; network vertices that lose their\n"
     "                       nearest template vertex are dropped and reported)\n"
     "  --max-rounds N       flip prevention rounds at most (default 10)\n"
+    "smooth options (thesis ch. 4: modified mean-curvature flow, then modified Laplacian flow):\n"
+    "  --iterations N       iterations in all (default 100: a fifth mean curvature, the rest Laplacian)\n"
+    "  --mc-iterations N    iterations of the modified mean-curvature flow\n"
+    "  --laplacian-iterations N  iterations of the modified Laplacian flow\n"
+    "  --step X             step lambda in (0, 1] (default 1)\n"
+    "                       Fixed: the mesh boundary, the curve edges' vertices (curve edges of\n"
+    "                       a .ply/.obj template, and with --curves the mesh vertices on network\n"
+    "                       vertices and the mesh edges along network segments)\n"
     "  --help, --version\n";
 
 struct Usage_error {
@@ -64,7 +73,8 @@ Command_line parse(int argc, char** argv) {
   cl.command = argv[1];
   static const char* const valued[] = {"--template", "--curves", "--correspondences", "--output",
                                        "--report", "--merge-tolerance", "--kernel",
-                                       "--curve-density", "--max-rounds"};
+                                       "--curve-density", "--max-rounds",
+                                       "--iterations", "--mc-iterations", "--laplacian-iterations", "--step"};
   for (int i = 2; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--quiet") { cl.quiet = true; continue; }
@@ -367,6 +377,130 @@ int run_partition(const Command_line& cl) {
   return success;
 }
 
+/// A non-negative integer option (at most `most`), or `fallback` when absent.
+long count_option(const Command_line& cl, const char* name, long fallback, long most) {
+  const auto it = cl.values.find(name);
+  if (it == cl.values.end()) return fallback;
+  char* end = nullptr;
+  const long v = std::strtol(it->second.c_str(), &end, 10);
+  if (end == it->second.c_str() || *end != '\0' || v < 0 || v > most)
+    throw Usage_error{std::string(name) + " needs an integer from 0 to " + std::to_string(most) + ", not '" + it->second + "'"};
+  return v;
+}
+
+int run_smooth(const Command_line& cl) {
+  require(cl, {"--template", "--output"},
+          {"--curves", "--report", "--merge-tolerance", "--iterations", "--mc-iterations", "--laplacian-iterations",
+           "--step"});
+  const std::string& template_path = cl.values.at("--template");
+  std::vector<std::string> inputs{template_path};
+  if (cl.values.count("--curves")) inputs.push_back(cl.values.at("--curves"));
+  const std::string report_path = check_outputs(cl, inputs);
+  const long total = count_option(cl, "--iterations", 100, 100000);
+  const long mc = count_option(cl, "--mc-iterations", total / 5, 100000);
+  const long lap = count_option(cl, "--laplacian-iterations", total - total / 5, 100000);
+  double step = 1;
+  if (cl.values.count("--step")) {
+    const std::string& x = cl.values.at("--step");
+    char* end = nullptr;
+    step = std::strtod(x.c_str(), &end);
+    if (end == x.c_str() || *end != '\0' || !(step > 0 && step <= 1))
+      throw Usage_error{"--step needs a number in (0, 1], not '" + x + "'"};
+  }
+
+  using Mesh = CGAL::Surface_mesh<meshfit::Point_3>;
+  const auto t0 = std::chrono::steady_clock::now();
+  meshfit::Mesh_data data = meshfit::read_mesh_data(template_path);
+  if (data.triangles.empty())
+    throw meshfit::Invalid_input(meshfit::Input_location{template_path, 0, meshfit::Input_location::no_offset},
+                                 "the template has no face");
+  Mesh tm;
+  auto curve = tm.add_property_map<Mesh::Edge_index, bool>("e:meshfit_curve", false).first;
+  // Vertex i of the file is vertex i of tm (build_triangle_mesh keeps the order).
+  meshfit::build_triangle_mesh(data, tm, CGAL::parameters::edge_is_constrained_map(curve));
+  auto pinned = tm.add_property_map<Mesh::Vertex_index, bool>("v:meshfit_pinned", false).first;
+  std::size_t network_vertices = 0, matched_vertices = 0, segments = 0, matched_segments = 0;
+  if (cl.values.count("--curves")) {
+    const meshfit::Curve_network network = meshfit::read_curve_network(cl.values.at("--curves"), merge_tolerance(cl));
+    network_vertices = network.number_of_vertices();
+    segments = network.number_of_segments();
+    std::vector<Mesh::Vertex_index> on(network_vertices, Mesh::null_vertex());
+    for (auto v : tm.vertices())
+      if (const auto nv = network.find_vertex(tm.point(v))) {
+        if (on[*nv] == Mesh::null_vertex()) ++matched_vertices;
+        on[*nv] = v;
+        pinned[v] = true;
+      }
+    for (const auto& seg : network.segments()) {
+      if (on[seg[0]] == Mesh::null_vertex() || on[seg[1]] == Mesh::null_vertex()) continue;
+      const auto h = CGAL::halfedge(on[seg[0]], on[seg[1]], tm);
+      if (!h.second) continue;
+      curve[tm.edge(h.first)] = true;
+      ++matched_segments;
+    }
+  }
+  std::size_t curve_edges = 0;
+  for (auto e : tm.edges()) curve_edges += curve[e];
+  const double min_angle_before = minimum_angle_degrees(data);
+  const double read_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+  const bool quiet = cl.quiet;
+  auto progress = [quiet](const meshfit::Progress_step& s) {
+    // One line per ten iterations: a hundred lines would drown the other stages' output.
+    if (!quiet && (s.index % 10 == 0 || s.index + 1 == s.total))
+      std::cerr << "meshfit: " << s.stage << ": " << s.step << " (" << s.index + 1 << "/" << s.total << ")\n";
+    return true;
+  };
+  meshfit::Smoothing_report r;
+  std::string failure;
+  try {
+    r = meshfit::smooth_mesh(
+        tm, meshfit::parameters::mean_curvature_iterations(
+                mc, meshfit::parameters::laplacian_iterations(
+                        lap, meshfit::parameters::step_size(
+                                 step, meshfit::parameters::progress(
+                                           progress, CGAL::parameters::edge_is_constrained_map(curve)
+                                                         .vertex_is_constrained_map(pinned))))));
+  } catch (const meshfit::Numerical_error& e) {
+    failure = e.what();
+  }
+  for (auto v : tm.vertices()) data.points[v.idx()] = tm.point(v);
+  data.curve_edges.clear();
+  for (auto e : tm.edges())
+    if (curve[e]) data.curve_edges.push_back({tm.vertex(e, 0).idx(), tm.vertex(e, 1).idx()});
+
+  if (!report_path.empty()) {
+    std::ostringstream js;
+    js << "{\n  \"command\": \"smooth\",\n  \"meshfit_version\": \"" << MESHFIT_VERSION_STRING << "\",\n"
+       << "  \"completed\": " << (failure.empty() ? "true" : "false") << ",\n"
+       << "  \"timings_s\": {\"read\": " << json_number(read_s) << ", \"smooth\": " << json_number(r.seconds) << "},\n"
+       << "  \"counts\": {\"iterations\": " << r.iterations << ", \"mean_curvature_iterations\": " << mc
+       << ", \"laplacian_iterations\": " << lap << ", \"fixed_vertices\": " << r.fixed_vertices
+       << ", \"curve_edges\": " << curve_edges << ", \"network_vertices\": " << network_vertices
+       << ", \"network_vertices_on_mesh\": " << matched_vertices << ", \"network_segments\": " << segments
+       << ", \"network_segments_on_mesh\": " << matched_segments << ", \"steps_reduced\": " << r.steps_reduced
+       << ", \"steps_cancelled\": " << r.steps_cancelled << ", \"clamped_cotangents\": " << r.clamped_cotangents
+       << ", \"projections_clamped\": " << r.projections_clamped << "},\n"
+       << "  \"displacement\": {\"mean\": " << json_number(r.mean_displacement) << ", \"max\": "
+       << json_number(r.max_displacement) << ", \"last_iteration_max\": " << json_number(r.last_step_max_displacement)
+       << "},\n"
+       << "  \"quality\": {\"vertices\": " << data.points.size() << ", \"faces\": " << data.triangles.size()
+       << ", \"minimum_angle_deg_before\": " << json_number(min_angle_before)
+       << ", \"minimum_angle_deg\": " << json_number(minimum_angle_degrees(data)) << "}\n}\n";
+    write_report(report_path, js.str());
+  }
+  if (!failure.empty()) throw meshfit::Algorithm_failure("smooth", failure);
+  if (!quiet && segments > matched_segments)
+    std::cerr << "meshfit: smooth: warning: " << segments - matched_segments << " of " << segments
+              << " network segments are not mesh edges (run partition first); their vertices on the mesh are "
+                 "still fixed\n";
+  if (!quiet)
+    std::cerr << "meshfit: smooth: " << r.iterations << " iterations, " << r.fixed_vertices
+              << " vertices fixed, mean displacement " << r.mean_displacement << "\n";
+  write_output(cl, data, inputs, report_path);
+  return success;
+}
+
 int not_available(const Command_line& cl, const char* stage) {
   std::cerr << "meshfit " << cl.command << ": not available yet: " << stage
             << " is not implemented in meshfit " << MESHFIT_VERSION_STRING << "\n";
@@ -390,7 +524,7 @@ int main(int argc, char** argv) {
     if (cl.command == "fit") return not_available(cl, "the full pipeline");
     if (cl.command == "deform") return run_deform(cl);
     if (cl.command == "partition") return run_partition(cl);
-    if (cl.command == "smooth") return not_available(cl, "stage 3 (smoothing)");
+    if (cl.command == "smooth") return run_smooth(cl);
     throw Usage_error{"unknown command '" + cl.command + "'"};
   } catch (const Usage_error& e) {
     std::cerr << "meshfit: " << e.message << "\n" << usage_text;

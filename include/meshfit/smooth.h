@@ -1,0 +1,405 @@
+// meshfit: stage 3, smoothing the fitted mesh without shrinking it and without moving the curves
+// (thesis ch. 4, "Mesh smoothing algorithm").
+//
+//   laplacian_flow                eq. 4.1–4.6  umbrella operator, uniform or inverse-distance
+//                                              weights, optionally Vollmer's α variants
+//   mean_curvature_flow           eq. 4.7–4.8  cotangent weights, area normalisation
+//   modified_mean_curvature_flow  eq. 4.9, 4.12  the step is projected onto the previous
+//                                              iteration's surface
+//   modified_laplacian_flow       eq. 4.10, 4.11, 4.13  the step is projected onto the surface
+//                                              before smoothing (each vertex stays on it)
+//   smooth_mesh                   §4.3: modified mean curvature, then modified Laplacian
+//
+// Every function works on any triangle mesh (`TriangleMesh`, a model of FaceListGraph with a
+// vertex point map of 3D points), never changes its connectivity, and returns a
+// Smoothing_report. The iterations are Jacobi steps: every new position is computed from the
+// positions of the previous iteration, so the result does not depend on vertex order or on the
+// number of threads.
+//
+// Fixed vertices (thesis §4.3.3, eq. 4.12/4.13: p^{k+1} = p^0 for p in V_f): a vertex is never
+// moved when the caller's `vertex_is_constrained_map` says so, when it lies on the mesh boundary
+// (an open template keeps its rim), or when it is incident to an edge of the caller's
+// `edge_is_constrained_map` (a curve edge). The thesis fixes every vertex of the curves, inner
+// curve vertices included, and so does meshfit: curves keep their exact polylines, and since
+// connectivity never changes, curve edges stay edges. The projections of the modified flows also
+// never carry a vertex across a curve edge (see below), so every vertex stays in its region.
+//
+// Guards (so that no value is ever non-finite, and no face flips):
+//   - cotangents (eq. 4.8) are computed as cos/sin with the sine bounded below by sin(1°) times
+//     the product of the two edge lengths, i.e. |cot| ≤ cot(1°) ≈ 57.3: a needle or a zero-area
+//     face has bounded weights ("clamped" in the report);
+//   - the mean-curvature step of a vertex is λ·h̄²·H (h̄ the mean edge length of the mesh at the
+//     call, so λ is dimensionless), but never more than the step 4A/Σ|w| that moves the vertex
+//     to its cotangent-weighted neighbour average: the explicit scheme stays stable on small
+//     faces and a vertex whose faces have no area (A = 0) or whose weights all vanish stays put;
+//   - inverse-distance weights (eq. 4.4) use max(|p − q|, 1e-6·h̄);
+//   - after each step, every face whose normal would turn by more than 90° (floating-point
+//     filter, exact orientation test in the plane of the face when the filter is unsure)
+//     halves the step of its free corners, up to 4 times, after which those corners do not
+//     move in that iteration. Faces of zero area before the step have no normal and are not
+//     judged.
+//
+// The reference surfaces of the modified flows (eq. 4.9 and 4.11 project the step onto "the face
+// closest to p^k" and put p^{k+1} on that face): a vertex p^k lies on all of its incident faces
+// of the reference surface, so "the closest face" is decided by where the step goes. meshfit
+// walks from a face of the reference surface holding the vertex towards p^k + step: on the
+// current face, it takes the barycentric coordinates of the point projected onto the face's
+// plane; when they are all non-negative the projection is p^{k+1} (the intersection of n with
+// the face, as in figs. 4.11 and 4.12); otherwise it crosses the edge of the most negative
+// coordinate, unless that edge is on the boundary or a curve, or crossing it goes back to the
+// face it came from (a ridge), or 16 faces were visited: then p^{k+1} is the closest point of
+// the current face. p^{k+1} is therefore always on the reference surface, in the same region,
+// and reached through faces that p^k's step crosses. This is a local search of O(1) per vertex
+// instead of a global closest-point query: for the modified mean-curvature flow the reference
+// changes every iteration (an AABB tree would be rebuilt each time), and for the modified
+// Laplacian flow a tree query costs more than the rest of the step; the walk gives the same face
+// as the closest-point query whenever the step stays within the faces around the vertex, which
+// the step bound above guarantees up to the walk's corner cases (ridges, where the closest
+// point of the last face is taken, which is the closest point of the two faces).
+#ifndef MESHFIT_SMOOTH_H
+#define MESHFIT_SMOOTH_H
+
+#include <meshfit/exceptions.h>
+#include <meshfit/internal/triangle_corners.h>
+#include <meshfit/kernel.h>
+#include <meshfit/parameters.h>
+
+#include <CGAL/Dynamic_property_map.h>
+#include <CGAL/Named_function_parameters.h>
+#include <CGAL/boost/graph/helpers.h>
+#include <CGAL/boost/graph/iterator.h>
+#include <CGAL/boost/graph/named_params_helper.h>
+
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+namespace meshfit {
+
+/// The weights w_i of the umbrella operator (eq. 4.2).
+enum class Laplacian_weights {
+  uniform,          ///< w_i = 1 (eq. 4.3, and eq. 4.10 of the modified flow). Default.
+  inverse_distance  ///< w_i = 1 / |p^k − q_i| (eq. 4.4)
+};
+
+/// Vollmer's variants of the Laplacian flow (eq. 4.5, 4.6), which replace eq. 4.1. Both include
+/// the vertex itself in the weighted average (q_0 = p^k, with weight 1 for uniform weights and
+/// the mean of the neighbours' weights for inverse-distance weights, since 1/|p^k − p^k| is not
+/// defined); α is the named parameter `laplacian_alpha`, and λ is not used.
+enum class Laplacian_variant {
+  none,              ///< eq. 4.1: p^{k+1} = p^k + λ Δ(p^k). Default.
+  alpha_current,     ///< eq. 4.5: p^{k+1} = α p^k + (1 − α) Σ_{i≥0} w_i q_i / Σ_{i≥0} w_i
+  alpha_original     ///< eq. 4.6: p^{k+1} = α p^0 + (1 − α) Σ_{i≥0} w_i q_i / Σ_{i≥0} w_i
+};
+
+/// What a smoothing call did.
+struct Smoothing_report {
+  std::size_t iterations = 0;             ///< iterations run (both phases for smooth_mesh)
+  std::size_t mean_curvature_iterations = 0;  ///< smooth_mesh: iterations of the first phase
+  std::size_t laplacian_iterations = 0;       ///< smooth_mesh: iterations of the second phase
+  std::size_t vertices = 0;
+  std::size_t fixed_vertices = 0;         ///< never moved (constrained, boundary, curve vertices)
+  double mean_displacement = 0;           ///< mean over all vertices of |p_final − p_initial|
+  double max_displacement = 0;            ///< largest |p_final − p_initial|
+  double last_step_max_displacement = 0;  ///< largest move in the last iteration (convergence)
+  double seconds = 0;
+  std::size_t steps_reduced = 0;    ///< vertex steps halved because a face would flip (all iterations)
+  std::size_t steps_cancelled = 0;  ///< of those, steps set to zero after 4 halvings
+  std::size_t clamped_cotangents = 0;  ///< cotangent weights bounded by cot(1°) (needles, zero-area faces)
+  std::size_t projections_clamped = 0;  ///< projections ended at a face's closest point (ridge, curve, boundary)
+};
+
+namespace internal {
+
+/// Which flow the core runs.
+enum class Flow_kind { laplacian, mean_curvature, modified_mean_curvature, modified_laplacian };
+
+/// The mesh as the compiled core sees it. `points` holds x y z per vertex and receives the result.
+struct Smoothing_arrays {
+  std::vector<double> points;
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+  std::vector<unsigned char> fixed;  ///< per vertex; 1: never moves
+  std::vector<std::array<std::uint32_t, 2>> constrained_edges;  ///< the projection walks never cross them
+  /// Positions (x y z per vertex) of the reference surface of the modified Laplacian flow; empty:
+  /// the positions at the start of the flow.
+  std::vector<double> reference_points;
+  /// Positions (x y z per vertex) against which the flip guard also judges faces; empty: the
+  /// positions at the start of the flow (smooth_mesh sets them so that its two phases together
+  /// reverse no face of the input).
+  std::vector<double> orientation_points;
+};
+
+struct Flow_settings {
+  Flow_kind kind = Flow_kind::laplacian;
+  std::size_t iterations = 0;
+  double step = 1;
+  Laplacian_weights weights = Laplacian_weights::uniform;
+  Laplacian_variant variant = Laplacian_variant::none;
+  double alpha = 0.5;
+  /// Called before iteration `index` (0-based) of `total`; returning false cancels.
+  std::function<bool(std::size_t index, std::size_t total)> on_iteration;
+  std::size_t progress_offset = 0, progress_total = 0;  ///< smooth_mesh numbers both phases together
+};
+
+/// The compiled core (src/smooth.cpp): runs the flow on the arrays, in place. The report's
+/// counters are added to `report` (iterations included); displacements are not filled in.
+/// \throws Algorithm_failure("smooth", …) when `on_iteration` returns false (the arrays are then
+///         partly smoothed: the front ends write back only after a complete run);
+///         Numerical_error if a position became non-finite (the guards are meant to prevent it).
+void run_flow(Smoothing_arrays& mesh, const Flow_settings& settings, Smoothing_report& report);
+
+/// Checks the arrays (finite coordinates, indices in range, no repeated corner).
+/// \throws Invalid_input naming the vertex or face.
+void check_smoothing_input(const Smoothing_arrays& mesh);
+
+/// Fills mean_displacement and max_displacement from the positions before and after.
+void fill_displacements(const std::vector<double>& before, const std::vector<double>& after,
+                        Smoothing_report& report);
+
+template <typename NamedParameters>
+std::size_t iterations_parameter(const NamedParameters& np, std::size_t fallback) {
+  using CGAL::parameters::choose_parameter;
+  using CGAL::parameters::get_parameter;
+  auto n = choose_parameter(get_parameter(np, CGAL::internal_np::number_of_iterations), fallback);
+  if constexpr (std::is_signed_v<decltype(n)>) {
+    if (n < 0) throw Invalid_input("smooth: number_of_iterations must not be negative, not " + std::to_string(n));
+  }
+  return static_cast<std::size_t>(n);
+}
+
+template <typename T>
+std::size_t checked_count(const T& n, const char* what) {
+  if constexpr (std::is_signed_v<T>) {
+    if (n < 0) throw Invalid_input(std::string("smooth: ") + what + " must not be negative, not " + std::to_string(n));
+  }
+  return static_cast<std::size_t>(n);
+}
+
+template <typename NamedParameters>
+Flow_settings flow_settings(const NamedParameters& np, Flow_kind kind, std::size_t default_iterations) {
+  using CGAL::parameters::choose_parameter;
+  using CGAL::parameters::get_parameter;
+  Flow_settings s;
+  s.kind = kind;
+  s.iterations = iterations_parameter(np, default_iterations);
+  s.step = choose_parameter(get_parameter(np, meshfit::internal_np::step_size), 1.0);
+  if (!(s.step > 0 && s.step <= 1))
+    throw Invalid_input("smooth: step_size (lambda) must be in (0, 1], not " + std::to_string(s.step));
+  s.weights = choose_parameter(get_parameter(np, meshfit::internal_np::laplacian_weights), Laplacian_weights::uniform);
+  s.variant = choose_parameter(get_parameter(np, meshfit::internal_np::laplacian_variant), Laplacian_variant::none);
+  s.alpha = choose_parameter(get_parameter(np, meshfit::internal_np::laplacian_alpha), 0.5);
+  if (!(s.alpha >= 0 && s.alpha <= 1))
+    throw Invalid_input("smooth: laplacian_alpha must be in [0, 1], not " + std::to_string(s.alpha));
+  auto progress = get_parameter(np, meshfit::internal_np::progress);
+  if constexpr (!std::is_same_v<decltype(progress), CGAL::internal_np::Param_not_found>) {
+    s.on_iteration = [progress](std::size_t index, std::size_t total) {
+      return static_cast<bool>(progress(Progress_step{"smooth", "iteration", index, total}));
+    };
+  }
+  return s;
+}
+
+/// The mesh in flat arrays, with the vertex descriptors in the order of vertices(tm).
+template <typename TriangleMesh, typename NamedParameters>
+struct Smoothing_front_end {
+  using GT = boost::graph_traits<TriangleMesh>;
+  using vertex_descriptor = typename GT::vertex_descriptor;
+
+  TriangleMesh& tm;
+  decltype(CGAL::parameters::choose_parameter(
+      CGAL::parameters::get_parameter(std::declval<const NamedParameters&>(), CGAL::internal_np::vertex_point),
+      get_property_map(CGAL::vertex_point, std::declval<TriangleMesh&>()))) vpm;
+  std::vector<vertex_descriptor> vertex;
+  Smoothing_arrays arrays;
+
+  Smoothing_front_end(TriangleMesh& m, const NamedParameters& np)
+      : tm(m),
+        vpm(CGAL::parameters::choose_parameter(CGAL::parameters::get_parameter(np, CGAL::internal_np::vertex_point),
+                                               get_property_map(CGAL::vertex_point, m))) {
+    using CGAL::parameters::get_parameter;
+    auto index = get(CGAL::dynamic_vertex_property_t<std::size_t>(), tm);
+    vertex.reserve(num_vertices(tm));
+    arrays.points.reserve(3 * num_vertices(tm));
+    for (auto v : vertices(tm)) {
+      put(index, v, vertex.size());
+      vertex.push_back(v);
+      const auto& p = get(vpm, v);
+      arrays.points.insert(arrays.points.end(), {double(p.x()), double(p.y()), double(p.z())});
+    }
+    if (vertex.size() >= std::size_t(UINT32_MAX))
+      throw Invalid_input("smooth: more than 2^32 - 1 vertices are not supported");
+    arrays.fixed.assign(vertex.size(), 0);
+    arrays.triangles.reserve(num_faces(tm));
+    for (auto f : faces(tm)) {
+      const auto c = triangle_corners(f, tm, index);
+      arrays.triangles.push_back({std::uint32_t(c[0]), std::uint32_t(c[1]), std::uint32_t(c[2])});
+    }
+    for (std::size_t i = 0; i < vertex.size(); ++i)
+      if (CGAL::is_border(vertex[i], tm)) arrays.fixed[i] = 1;
+    auto vcm = get_parameter(np, CGAL::internal_np::vertex_is_constrained);
+    if constexpr (!std::is_same_v<decltype(vcm), CGAL::internal_np::Param_not_found>) {
+      for (std::size_t i = 0; i < vertex.size(); ++i)
+        if (get(vcm, vertex[i])) arrays.fixed[i] = 1;
+    }
+    auto ecm = get_parameter(np, CGAL::internal_np::edge_is_constrained);
+    if constexpr (!std::is_same_v<decltype(ecm), CGAL::internal_np::Param_not_found>) {
+      for (auto e : edges(tm))
+        if (get(ecm, e)) {
+          const std::uint32_t a = std::uint32_t(get(index, source(e, tm))), b = std::uint32_t(get(index, target(e, tm)));
+          arrays.fixed[a] = arrays.fixed[b] = 1;
+          arrays.constrained_edges.push_back({a, b});
+        }
+    }
+    auto ref = get_parameter(np, meshfit::internal_np::reference_points);
+    if constexpr (!std::is_same_v<decltype(ref), CGAL::internal_np::Param_not_found>) {
+      if (ref.size() != vertex.size())
+        throw Invalid_input("smooth: reference_points has " + std::to_string(ref.size()) + " points for " +
+                            std::to_string(vertex.size()) + " vertices");
+      arrays.reference_points.reserve(3 * ref.size());
+      for (const auto& p : ref) arrays.reference_points.insert(arrays.reference_points.end(), {double(p.x()), double(p.y()), double(p.z())});
+    }
+    check_smoothing_input(arrays);
+  }
+
+  void write_back() {
+    using P = typename boost::property_traits<decltype(vpm)>::value_type;
+    for (std::size_t i = 0; i < vertex.size(); ++i)
+      put(vpm, vertex[i], P(arrays.points[3 * i], arrays.points[3 * i + 1], arrays.points[3 * i + 2]));
+  }
+  std::size_t fixed_count() const {
+    std::size_t n = 0;
+    for (unsigned char f : arrays.fixed) n += f;
+    return n;
+  }
+};
+
+template <typename TriangleMesh, typename NamedParameters>
+Smoothing_report run_single_flow(TriangleMesh& tm, const NamedParameters& np, Flow_kind kind,
+                                 std::size_t default_iterations) {
+  const auto t0 = std::chrono::steady_clock::now();
+  Flow_settings settings = flow_settings(np, kind, default_iterations);
+  Smoothing_front_end<TriangleMesh, NamedParameters> fe(tm, np);
+  Smoothing_report report;
+  report.vertices = fe.vertex.size();
+  report.fixed_vertices = fe.fixed_count();
+  const std::vector<double> before = fe.arrays.points;
+  run_flow(fe.arrays, settings, report);
+  fill_displacements(before, fe.arrays.points, report);
+  fe.write_back();
+  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return report;
+}
+
+}  // namespace internal
+
+/// Laplacian flow (eq. 4.1–4.4): p^{k+1} = p^k + λ Δ(p^k), Δ the umbrella operator with
+/// `laplacian_weights` (uniform, eq. 4.3, default; inverse distance, eq. 4.4); with
+/// `laplacian_variant` alpha_current or alpha_original, Vollmer's eq. 4.5 or 4.6 instead (α from
+/// `laplacian_alpha`, default 0.5). Shrinks the shape (that is the thesis's point).
+/// Named parameters: `number_of_iterations` (default 20), `step_size` λ (default 1),
+/// `laplacian_weights`, `laplacian_variant`, `laplacian_alpha`, `vertex_is_constrained_map`,
+/// `edge_is_constrained_map`, `vertex_point_map`, `progress` (stage "smooth", one call per
+/// iteration). Fixed vertices, flip guard: see the top of this file.
+/// \pre `tm` is a triangle mesh.
+/// \throws Invalid_input for a face that is not a triangle, a non-finite coordinate, λ outside
+///         (0, 1], α outside [0, 1] or a negative iteration count; Algorithm_failure when the
+///         progress callback returns false (`tm` is then unchanged).
+template <typename TriangleMesh, typename NamedParameters = CGAL::parameters::Default_named_parameters>
+Smoothing_report laplacian_flow(TriangleMesh& tm, const NamedParameters& np = CGAL::parameters::default_values()) {
+  return internal::run_single_flow(tm, np, internal::Flow_kind::laplacian, 20);
+}
+
+/// Mean-curvature flow (eq. 4.7–4.8): p^{k+1} = p^k + τ H(p^k), H = Σ (cot α_i + cot β_i)(q_i − p^k)
+/// / (4A), A the area of the faces around p^k, τ = λ h̄² (h̄ the mean edge length at the call),
+/// bounded per vertex as described at the top of this file (cotangents clamped at 1°, zero area
+/// → no motion). Named parameters as laplacian_flow (default 60 iterations, λ = 1; the weights
+/// and variants do not apply). \throws as laplacian_flow.
+template <typename TriangleMesh, typename NamedParameters = CGAL::parameters::Default_named_parameters>
+Smoothing_report mean_curvature_flow(TriangleMesh& tm, const NamedParameters& np = CGAL::parameters::default_values()) {
+  return internal::run_single_flow(tm, np, internal::Flow_kind::mean_curvature, 60);
+}
+
+/// Modified mean-curvature flow (eq. 4.9, 4.12): the mean-curvature step of mean_curvature_flow,
+/// projected onto the surface of the previous iteration (the walk described at the top of this
+/// file): vertices slide on the previous surface, which removes noise while shrinking far less.
+/// Named parameters as mean_curvature_flow (default 50 iterations). \throws as laplacian_flow.
+template <typename TriangleMesh, typename NamedParameters = CGAL::parameters::Default_named_parameters>
+Smoothing_report modified_mean_curvature_flow(TriangleMesh& tm,
+                                              const NamedParameters& np = CGAL::parameters::default_values()) {
+  return internal::run_single_flow(tm, np, internal::Flow_kind::modified_mean_curvature, 50);
+}
+
+/// Modified Laplacian flow (eq. 4.10, 4.11, 4.13): the umbrella step λ Δ(p^k) (uniform weights,
+/// eq. 4.10, unless `laplacian_weights` says otherwise) projected onto the reference surface,
+/// which is the mesh as it is at the call (the thesis's p^0 surface), or, with the named
+/// parameter `reference_points` (a std::vector<Point_3>, one point per vertex in the order of
+/// vertices(tm)), `tm`'s connectivity at those positions. Every free vertex ends each iteration
+/// on the reference surface (eq. 4.11 writes p^0 + projected Δ(p^k); the text and fig. 4.12 put
+/// p^{k+1} on the face of the original surface, which is what is done: p^k + projected step,
+/// landing on that face). Evens out the triangles without changing the shape. Named parameters as
+/// laplacian_flow (default 50 iterations, λ = 1; the variants do not apply).
+/// \throws as laplacian_flow, and Invalid_input when `reference_points` has the wrong size.
+template <typename TriangleMesh, typename NamedParameters = CGAL::parameters::Default_named_parameters>
+Smoothing_report modified_laplacian_flow(TriangleMesh& tm,
+                                         const NamedParameters& np = CGAL::parameters::default_values()) {
+  return internal::run_single_flow(tm, np, internal::Flow_kind::modified_laplacian, 50);
+}
+
+/// The thesis's method (§4.3, §4.4): modified_mean_curvature_flow to remove the distortion, then
+/// modified_laplacian_flow to even out the triangles, whose reference surface is the mesh after
+/// the first phase (projecting back onto the noisy input would restore the noise). Named
+/// parameters: `number_of_iterations` (default 100: one fifth modified mean curvature, the rest
+/// modified Laplacian), `mean_curvature_iterations` and `laplacian_iterations` (each phase's count,
+/// overriding that split), `step_size` (both phases, default 1), `laplacian_weights`,
+/// `vertex_is_constrained_map`, `edge_is_constrained_map`, `vertex_point_map`, `progress` (one
+/// call per iteration of either phase, numbered through both). `reference_points` is not used.
+/// Why one fifth: on the noisy sphere and torus of test/smooth_test.cpp the modified mean
+/// curvature has removed the noise after about 20 iterations; later iterations only shrink the
+/// shape a little more (each lands the vertices on the chords of the previous surface) and
+/// stretch the triangles along the cotangent weights' tangential drift, which the Laplacian
+/// phase then has to undo (measured: 20/80 keeps 98.9% of the sphere's volume, 50/50 98.4%).
+/// \throws as laplacian_flow.
+template <typename TriangleMesh, typename NamedParameters = CGAL::parameters::Default_named_parameters>
+Smoothing_report smooth_mesh(TriangleMesh& tm, const NamedParameters& np = CGAL::parameters::default_values()) {
+  using CGAL::parameters::choose_parameter;
+  using CGAL::parameters::get_parameter;
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::size_t total = internal::iterations_parameter(np, 100);
+  const std::size_t mc = internal::checked_count(
+      choose_parameter(get_parameter(np, meshfit::internal_np::mean_curvature_iterations), total / 5),
+      "mean_curvature_iterations");
+  const std::size_t lap = internal::checked_count(
+      choose_parameter(get_parameter(np, meshfit::internal_np::laplacian_iterations), total - total / 5),
+      "laplacian_iterations");
+  internal::Flow_settings first = internal::flow_settings(np, internal::Flow_kind::modified_mean_curvature, 0);
+  internal::Flow_settings second = internal::flow_settings(np, internal::Flow_kind::modified_laplacian, 0);
+  first.iterations = mc;
+  second.iterations = lap;
+  first.progress_total = second.progress_total = mc + lap;
+  second.progress_offset = mc;
+  internal::Smoothing_front_end<TriangleMesh, NamedParameters> fe(tm, np);
+  Smoothing_report report;
+  report.vertices = fe.vertex.size();
+  report.fixed_vertices = fe.fixed_count();
+  report.mean_curvature_iterations = mc;
+  report.laplacian_iterations = lap;
+  const std::vector<double> before = fe.arrays.points;
+  fe.arrays.reference_points.clear();  // the second phase projects onto the first one's result
+  fe.arrays.orientation_points = before;
+  internal::run_flow(fe.arrays, first, report);
+  internal::run_flow(fe.arrays, second, report);
+  internal::fill_displacements(before, fe.arrays.points, report);
+  fe.write_back();
+  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return report;
+}
+
+}  // namespace meshfit
+
+#endif  // MESHFIT_SMOOTH_H

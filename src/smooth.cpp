@@ -1,0 +1,502 @@
+// The compiled core of stage 3 (smooth.h): the flows of thesis ch. 4 on flat arrays.
+//
+// Every iteration is a Jacobi step over vertices (new positions from the old ones only), so the
+// per-vertex loops run in parallel and the result does not depend on the number of threads. The
+// connectivity is turned once into compressed rows (vertex → neighbours with their edge, vertex
+// → incident faces, face → faces across its edges) so that a step reads memory linearly; that is
+// what makes a step cost tens of nanoseconds per vertex.
+#include <meshfit/flip.h>
+#include <meshfit/smooth.h>
+
+#include "fp_traps.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+namespace meshfit {
+namespace internal {
+namespace {
+
+constexpr std::uint32_t no_face = std::numeric_limits<std::uint32_t>::max();
+constexpr int max_halvings = 4;
+constexpr int max_walk_faces = 16;
+// sin(1°): cotangents are bounded by cot(1°) ≈ 57.3 (needles, zero-area faces).
+constexpr double sin_one_degree = 0.017452406437283512;
+// The flip guard's needle threshold on |n| / (longest edge)² (about 1.7°'s sine, halved).
+constexpr double needle_shape = 0.015;
+
+struct V3 {
+  double x, y, z;
+};
+inline V3 operator-(V3 a, V3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+inline V3 operator+(V3 a, V3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+inline V3 operator*(double s, V3 a) { return {s * a.x, s * a.y, s * a.z}; }
+inline double dot(V3 a, V3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline V3 cross(V3 a, V3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+inline V3 load(const double* p, std::size_t i) { return {p[3 * i], p[3 * i + 1], p[3 * i + 2]}; }
+inline void store(double* p, std::size_t i, V3 v) {
+  p[3 * i] = v.x;
+  p[3 * i + 1] = v.y;
+  p[3 * i + 2] = v.z;
+}
+
+/// Connectivity in compressed rows, built once per flow.
+struct Topology {
+  std::size_t n = 0, nf = 0;
+  std::vector<std::array<std::uint32_t, 2>> edge_vertices;
+  std::vector<std::array<std::uint32_t, 3>> face_edge;  // edge opposite corner k
+  std::vector<std::array<std::uint32_t, 3>> face_adj;   // face across that edge; no_face at boundary/curve
+  std::vector<std::uint32_t> nbr_start, nbr, nbr_edge;  // vertex → neighbour, edge
+  std::vector<std::uint32_t> vf_start, vf;              // vertex → incident faces
+  double mean_edge = 0;
+
+  Topology(const Smoothing_arrays& m) : n(m.fixed.size()), nf(m.triangles.size()) {
+    // Half-edges a → b (opposite corner k of face f), listed by their source vertex; the twin
+    // b → a is found in b's short list. Linear time: sorting the 3·nf half-edges instead cost
+    // as much as five smoothing iterations.
+    std::vector<std::uint32_t> out_start(n + 1, 0);
+    for (const auto& t : m.triangles)
+      for (std::uint32_t v : t) ++out_start[v + 1];
+    std::partial_sum(out_start.begin(), out_start.end(), out_start.begin());
+    std::vector<std::uint32_t> out_target(3 * nf), out_half(3 * nf), fill(out_start.begin(), out_start.end() - 1);
+    for (std::size_t f = 0; f < nf; ++f)
+      for (std::size_t k = 0; k < 3; ++k) {
+        const std::uint32_t a = m.triangles[f][(k + 1) % 3], b = m.triangles[f][(k + 2) % 3];
+        out_target[fill[a]] = b;
+        out_half[fill[a]++] = std::uint32_t(3 * f + k);
+      }
+    std::vector<std::array<std::uint32_t, 2>> constrained = m.constrained_edges;
+    for (auto& e : constrained)
+      if (e[0] > e[1]) std::swap(e[0], e[1]);
+    std::sort(constrained.begin(), constrained.end());
+    face_edge.assign(nf, {0, 0, 0});
+    face_adj.assign(nf, {no_face, no_face, no_face});
+    constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
+    auto twin_of = [&](std::uint32_t a, std::uint32_t b) {
+      std::uint32_t twin = none, count = 0;
+      for (std::uint32_t j = out_start[b]; j < out_start[b + 1]; ++j)
+        if (out_target[j] == a) {
+          twin = out_half[j];
+          ++count;
+        }
+      return count == 1 ? twin : none;  // more than one: a non-manifold edge, no neighbour
+    };
+    for (std::uint32_t a = 0; a < n; ++a)
+      for (std::uint32_t j = out_start[a]; j < out_start[a + 1]; ++j) {
+        const std::uint32_t b = out_target[j], h = out_half[j];
+        const std::uint32_t twin = twin_of(a, b);
+        if (twin != none && a > b) continue;  // the twin's owner numbers the edge
+        const std::uint32_t e = std::uint32_t(edge_vertices.size());
+        edge_vertices.push_back({std::min(a, b), std::max(a, b)});
+        face_edge[h / 3][h % 3] = e;
+        if (twin == none) continue;
+        face_edge[twin / 3][twin % 3] = e;
+        // Faces are adjacent across a manifold edge that is not a curve: the projection walks
+        // stay inside a region and never leave the surface through its rim.
+        if (!constrained.empty() &&
+            std::binary_search(constrained.begin(), constrained.end(), edge_vertices.back()))
+          continue;
+        face_adj[h / 3][h % 3] = twin / 3;
+        face_adj[twin / 3][twin % 3] = h / 3;
+      }
+    nbr_start.assign(n + 1, 0);
+    for (const auto& e : edge_vertices) {
+      ++nbr_start[e[0] + 1];
+      ++nbr_start[e[1] + 1];
+    }
+    std::partial_sum(nbr_start.begin(), nbr_start.end(), nbr_start.begin());
+    nbr.resize(nbr_start[n]);
+    nbr_edge.resize(nbr_start[n]);
+    fill.assign(nbr_start.begin(), nbr_start.end() - 1);
+    for (std::size_t e = 0; e < edge_vertices.size(); ++e) {
+      const auto [a, b] = edge_vertices[e];
+      nbr[fill[a]] = b;
+      nbr_edge[fill[a]++] = std::uint32_t(e);
+      nbr[fill[b]] = a;
+      nbr_edge[fill[b]++] = std::uint32_t(e);
+    }
+    vf_start.assign(n + 1, 0);
+    for (const auto& t : m.triangles)
+      for (std::uint32_t v : t) ++vf_start[v + 1];
+    std::partial_sum(vf_start.begin(), vf_start.end(), vf_start.begin());
+    vf.resize(vf_start[n]);
+    fill.assign(vf_start.begin(), vf_start.end() - 1);
+    for (std::size_t f = 0; f < nf; ++f)
+      for (std::uint32_t v : m.triangles[f]) vf[fill[v]++] = std::uint32_t(f);
+    double sum = 0;
+    for (const auto& e : edge_vertices) sum += std::sqrt(dot(load(m.points.data(), e[0]) - load(m.points.data(), e[1]),
+                                                             load(m.points.data(), e[0]) - load(m.points.data(), e[1])));
+    mean_edge = edge_vertices.empty() ? 0 : sum / double(edge_vertices.size());
+  }
+};
+
+/// The closest point of segment ab to p (a when the segment has no length).
+V3 closest_on_segment(V3 a, V3 b, V3 p) {
+  const V3 ab = b - a;
+  const double l2 = dot(ab, ab);
+  if (!(l2 > 0)) return a;
+  const double t = std::min(1.0, std::max(0.0, dot(p - a, ab) / l2));
+  return a + t * ab;
+}
+
+/// A triangle's normal and whether it is too thin to have a plane we trust.
+inline bool has_plane(V3 a, V3 b, V3 c, V3& n, double& nn) {
+  n = cross(b - a, c - a);
+  nn = dot(n, n);
+  const double e2 = std::max({dot(b - a, b - a), dot(c - b, c - b), dot(a - c, a - c)});
+  // |n|² ≤ 1e-24 e⁴: the largest angle's sine is below about 1e-12, the plane is noise.
+  return nn > 1e-24 * e2 * e2;
+}
+
+/// The closest point of triangle abc to p.
+V3 closest_on_triangle(V3 a, V3 b, V3 c, V3 p) {
+  V3 n;
+  double nn;
+  if (has_plane(a, b, c, n, nn)) {
+    const V3 q = p - (dot(p - a, n) / nn) * n;
+    if (dot(cross(b - a, q - a), n) >= 0 && dot(cross(c - b, q - b), n) >= 0 && dot(cross(a - c, q - c), n) >= 0)
+      return q;
+  }
+  // Outside (or no plane): the closest point is on an edge.
+  const V3 cand[3] = {closest_on_segment(a, b, p), closest_on_segment(b, c, p), closest_on_segment(c, a, p)};
+  int best = 0;
+  for (int k = 1; k < 3; ++k)
+    if (dot(cand[k] - p, cand[k] - p) < dot(cand[best] - p, cand[best] - p)) best = k;
+  return cand[best];
+}
+
+/// The walk of smooth.h: from face f of the reference surface towards p; returns the landing
+/// point, sets f to the landing face and `clamped` when it ended at a face's closest point.
+V3 walk(const double* ref, const Smoothing_arrays& m, const Topology& t, std::uint32_t& f, V3 p, bool& clamped) {
+  std::uint32_t prev = no_face;
+  for (int step = 0; step < max_walk_faces; ++step) {
+    const auto& tri = m.triangles[f];
+    const V3 v[3] = {load(ref, tri[0]), load(ref, tri[1]), load(ref, tri[2])};
+    V3 n;
+    double nn;
+    if (!has_plane(v[0], v[1], v[2], n, nn)) break;
+    const V3 q = p - (dot(p - v[0], n) / nn) * n;
+    int kmin = 0;
+    double lmin = 0;
+    for (int k = 0; k < 3; ++k) {
+      // Unnormalised barycentric coordinate of corner k (same sign as the true one).
+      const double l = dot(cross(v[(k + 2) % 3] - v[(k + 1) % 3], q - v[(k + 1) % 3]), n);
+      if (k == 0 || l < lmin) {
+        lmin = l;
+        kmin = k;
+      }
+    }
+    if (lmin >= 0) {
+      clamped = false;
+      return q;
+    }
+    const std::uint32_t g = t.face_adj[f][kmin];
+    if (g == no_face || g == prev) break;
+    prev = f;
+    f = g;
+  }
+  clamped = true;
+  const auto& tri = m.triangles[f];
+  return closest_on_triangle(load(ref, tri[0]), load(ref, tri[1]), load(ref, tri[2]), p);
+}
+
+bool finite(V3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+}  // namespace
+
+void check_smoothing_input(const Smoothing_arrays& m) {
+  const std::size_t n = m.fixed.size();
+  if (m.points.size() != 3 * n) throw Invalid_input("smooth: point array and vertex count disagree");
+  for (std::size_t i = 0; i < n; ++i)
+    if (!finite(load(m.points.data(), i)))
+      throw Invalid_input("smooth: vertex " + std::to_string(i) + " has a non-finite coordinate");
+  if (!m.reference_points.empty()) {
+    if (m.reference_points.size() != 3 * n) throw Invalid_input("smooth: reference_points has the wrong size");
+    for (std::size_t i = 0; i < n; ++i)
+      if (!finite(load(m.reference_points.data(), i)))
+        throw Invalid_input("smooth: reference point " + std::to_string(i) + " has a non-finite coordinate");
+  }
+  for (std::size_t f = 0; f < m.triangles.size(); ++f) {
+    const auto& t = m.triangles[f];
+    if (t[0] >= n || t[1] >= n || t[2] >= n)
+      throw Invalid_input("smooth: face " + std::to_string(f) + " refers to a missing vertex");
+    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2])
+      throw Invalid_input("smooth: face " + std::to_string(f) + " repeats a vertex");
+  }
+}
+
+void fill_displacements(const std::vector<double>& before, const std::vector<double>& after, Smoothing_report& r) {
+  const std::size_t n = before.size() / 3;
+  double sum = 0, mx = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const V3 d = load(after.data(), i) - load(before.data(), i);
+    const double l = std::sqrt(dot(d, d));
+    sum += l;
+    mx = std::max(mx, l);
+  }
+  r.mean_displacement = n ? sum / double(n) : 0;
+  r.max_displacement = mx;
+}
+
+void run_flow(Smoothing_arrays& m, const Flow_settings& s, Smoothing_report& report) {
+  Fp_trap_scope traps;
+  check_smoothing_input(m);
+  const Topology t(m);
+  const std::size_t n = t.n, nf = t.nf;
+  const std::ptrdiff_t sn = std::ptrdiff_t(n), snf = std::ptrdiff_t(nf);
+  const bool modified = s.kind == Flow_kind::modified_mean_curvature || s.kind == Flow_kind::modified_laplacian;
+  const bool curvature = s.kind == Flow_kind::mean_curvature || s.kind == Flow_kind::modified_mean_curvature;
+  // The original positions p^0 (eq. 4.6) and the modified Laplacian's reference surface.
+  const std::vector<double> p0 = m.points;
+  const std::vector<double>& reference = m.reference_points.empty() ? p0 : m.reference_points;
+  const std::vector<double>& oriented = m.orientation_points.size() == p0.size() ? m.orientation_points : p0;
+  // The mean-curvature time step: λ h̄², so that λ is dimensionless (smooth.h).
+  const double tau = s.step * t.mean_edge * t.mean_edge;
+  const double min_distance = 1e-6 * t.mean_edge;
+  // Threads only pay off on large meshes: a step costs tens of nanoseconds per vertex, and on a
+  // busy machine every barrier of a small mesh's step can cost a scheduler time slice.
+  const bool parallel = n >= 50000;
+
+  // The normals of the faces at the call (zero for a face of zero area), for the flip guard.
+  std::vector<double> initial_normal(3 * nf);
+  for (std::size_t f = 0; f < nf; ++f) {
+    const auto& tri = m.triangles[f];
+    const V3 a = load(oriented.data(), tri[0]), b = load(oriented.data(), tri[1]), c = load(oriented.data(), tri[2]);
+    store(initial_normal.data(), f, cross(b - a, c - a));
+  }
+
+  // Each vertex's face of the reference surface (the modified Laplacian walks on from there).
+  std::vector<std::uint32_t> home(n, no_face);
+  for (std::size_t i = 0; i < n; ++i)
+    if (t.vf_start[i] < t.vf_start[i + 1]) home[i] = t.vf[t.vf_start[i]];
+
+  std::vector<double> cur = m.points, next(3 * n);
+  std::vector<double> disp(3 * n, 0.0), scale(n), face_area2, edge_w;
+  std::vector<std::array<double, 3>> face_cot;
+  std::vector<std::uint32_t> landing(n);
+  std::vector<unsigned char> walk_clamped(n), flipped(nf);
+  // Round stamps of the flip guard (which vertices and faces a round has already visited);
+  // rounds are numbered from 1 in every iteration, so the stamps are reset per iteration.
+  std::vector<std::uint32_t> vertex_round(n), face_round(nf);
+  std::vector<int> halvings(n);
+  if (curvature) {
+    face_area2.resize(nf);
+    face_cot.resize(nf);
+    edge_w.resize(t.edge_vertices.size());
+  }
+
+  for (std::size_t it = 0; it < s.iterations; ++it) {
+    if (s.on_iteration && !s.on_iteration(s.progress_offset + it, s.progress_total ? s.progress_total : s.iterations))
+      throw Algorithm_failure("smooth", "cancelled by the progress callback");
+    const double* P = cur.data();
+
+    std::size_t clamped_cot = 0;
+    if (curvature) {
+#pragma omp parallel for schedule(static) if (parallel) reduction(+ : clamped_cot)
+      for (std::ptrdiff_t f = 0; f < snf; ++f) {
+        const auto& tri = m.triangles[std::size_t(f)];
+        const V3 v[3] = {load(P, tri[0]), load(P, tri[1]), load(P, tri[2])};
+        const V3 nrm = cross(v[1] - v[0], v[2] - v[0]);
+        const double area2 = std::sqrt(dot(nrm, nrm));  // |u × w| at every corner
+        face_area2[std::size_t(f)] = area2;
+        for (int k = 0; k < 3; ++k) {
+          const V3 u = v[(k + 1) % 3] - v[k], w = v[(k + 2) % 3] - v[k];
+          const double lower = sin_one_degree * std::sqrt(dot(u, u) * dot(w, w));
+          double cot = 0;
+          if (!(lower > 0)) {
+            ++clamped_cot;  // a zero-length edge: the angle is undefined, weight 0
+          } else if (area2 < lower) {
+            ++clamped_cot;
+            cot = dot(u, w) / lower;
+          } else {
+            cot = dot(u, w) / area2;
+          }
+          face_cot[std::size_t(f)][std::size_t(k)] = cot;
+        }
+      }
+      std::fill(edge_w.begin(), edge_w.end(), 0.0);
+      for (std::size_t f = 0; f < nf; ++f)
+        for (int k = 0; k < 3; ++k) edge_w[t.face_edge[f][std::size_t(k)]] += face_cot[f][std::size_t(k)];
+    }
+
+    // The step of every free vertex, before projection and flip guard.
+#pragma omp parallel for schedule(static) if (parallel)
+    for (std::ptrdiff_t si = 0; si < sn; ++si) {
+      const std::size_t i = std::size_t(si);
+      V3 d{0, 0, 0};
+      const std::uint32_t b = t.nbr_start[i], e = t.nbr_start[i + 1];
+      if (!m.fixed[i] && b < e) {
+        const V3 p = load(P, i);
+        if (curvature) {
+          double area = 0;
+          for (std::uint32_t k = t.vf_start[i]; k < t.vf_start[i + 1]; ++k) area += 0.5 * face_area2[t.vf[k]];
+          V3 sum{0, 0, 0};
+          double wabs = 0;
+          for (std::uint32_t k = b; k < e; ++k) {
+            const double w = edge_w[t.nbr_edge[k]];
+            sum = sum + w * (load(P, t.nbr[k]) - p);
+            wabs += std::abs(w);
+          }
+          // τ/(4A), but at most 1/Σ|w| (the full step to the weighted average): stable on small
+          // faces, and no division by a zero area.
+          if (area > 0 && wabs > 0) d = (tau * wabs <= 4 * area ? tau / (4 * area) : 1 / wabs) * sum;
+        } else {
+          V3 sum{0, 0, 0};
+          double wsum = 0;
+          for (std::uint32_t k = b; k < e; ++k) {
+            const V3 q = load(P, t.nbr[k]);
+            double w = 1;
+            if (s.weights == Laplacian_weights::inverse_distance) {
+              const double dist = std::sqrt(dot(q - p, q - p));
+              w = dist > min_distance ? 1 / dist : min_distance > 0 ? 1 / min_distance : 1;
+            }
+            sum = sum + w * q;
+            wsum += w;
+          }
+          if (s.kind == Flow_kind::laplacian && s.variant != Laplacian_variant::none) {
+            // Eq. 4.5/4.6: the vertex itself is q_0 (weight: 1, or the mean neighbour weight).
+            const double w0 = s.weights == Laplacian_weights::uniform ? 1 : wsum / double(e - b);
+            const V3 avg = (1 / (wsum + w0)) * (sum + w0 * p);
+            const V3 anchor = s.variant == Laplacian_variant::alpha_current ? p : load(p0.data(), i);
+            d = (s.alpha * anchor + (1 - s.alpha) * avg) - p;
+          } else {
+            d = s.step * ((1 / wsum) * sum - p);
+          }
+        }
+      }
+      store(disp.data(), i, d);
+      scale[i] = 1;
+      halvings[i] = 0;
+      vertex_round[i] = 0;
+    }
+    std::fill(face_round.begin(), face_round.end(), 0u);
+
+    // Candidate positions for the current scales; projected for the modified flows.
+    const double* ref = s.kind == Flow_kind::modified_laplacian ? reference.data() : P;
+    auto place = [&](std::size_t i) {
+      const V3 p = load(P, i);
+      if (m.fixed[i]) {
+        store(next.data(), i, p);
+        return;
+      }
+      const V3 target = p + scale[i] * load(disp.data(), i);
+      if (modified && home[i] != no_face && scale[i] > 0) {
+        std::uint32_t f = home[i];
+        bool c = false;
+        store(next.data(), i, walk(ref, m, t, f, target, c));
+        landing[i] = f;
+        walk_clamped[i] = c;
+      } else {
+        store(next.data(), i, target);
+        landing[i] = home[i];
+        walk_clamped[i] = 0;
+      }
+    };
+#pragma omp parallel for schedule(static) if (parallel)
+    for (std::ptrdiff_t i = 0; i < sn; ++i) place(std::size_t(i));
+
+    // Flip guard: halve the steps of the free corners of faces that would flip or turn into
+    // needles. After the first pass over all faces only the faces around the vertices whose
+    // step changed are judged again; every round halves or cancels at least one step, and a
+    // vertex's step is halved at most max_halvings times before it is cancelled, so the loop
+    // ends. A face that stays flagged with all its corners still (impossible but for rounding)
+    // changes nothing and is dropped.
+    auto judge = [&](std::size_t f) {
+      const auto& tri = m.triangles[f];
+      const V3 a = load(P, tri[0]), b = load(P, tri[1]), c = load(P, tri[2]);
+      const V3 na = load(next.data(), tri[0]), nb = load(next.data(), tri[1]), nc = load(next.data(), tri[2]);
+      const V3 n0 = cross(b - a, c - a), n1 = cross(nb - na, nc - na);
+      const double l0 = dot(n0, n0), l1 = dot(n1, n1);
+      if (!(l0 > 0)) return false;  // a face of zero area has no normal to flip: not judged
+      // A face must not turn into a needle either (that is how a flip starts, and a needle's
+      // cotangents are clamped): its shape figure |n| / (longest edge)², about the sine of its
+      // smallest angle, may not fall below needle_shape, or below what it was if it already was.
+      // Compared squared and without division, so that an unmoved face always passes.
+      const double e0 = std::max({dot(b - a, b - a), dot(c - b, c - b), dot(a - c, a - c)});
+      const double e1 = std::max({dot(nb - na, nb - na), dot(nc - nb, nc - nb), dot(na - nc, na - nc)});
+      if (!(l1 * (e0 * e0) >= std::min(l0, needle_shape * needle_shape * (e0 * e0)) * (e1 * e1))) return true;
+      // The filter: a normal turning by less than about 89.9° (cos > 1e-3) is kept; otherwise the
+      // exact orientation of the moved triangle in the plane of the old one decides. Judged
+      // against the previous iteration and against the positions at the call: small turns add
+      // up over iterations, and the promise is that no face is reversed with respect to the input.
+      const Triangle_points after{Point_3(na.x, na.y, na.z), Point_3(nb.x, nb.y, nb.z), Point_3(nc.x, nc.y, nc.z)};
+      const double d0 = dot(n0, n1);
+      if (!(d0 > 0 && d0 * d0 > 1e-6 * l0 * l1)) {
+        const Triangle_points before{Point_3(a.x, a.y, a.z), Point_3(b.x, b.y, b.z), Point_3(c.x, c.y, c.z)};
+        if (orientation_flip_test(before, after) != Flip_state::kept) return true;
+      }
+      const V3 ni = load(initial_normal.data(), f);
+      const double di = dot(ni, n1);
+      const double li = dot(ni, ni);
+      if (!(li > 0) || (di > 0 && di * di > 1e-6 * li * l1)) return false;
+      const V3 ia = load(oriented.data(), tri[0]), ib = load(oriented.data(), tri[1]), ic = load(oriented.data(), tri[2]);
+      const Triangle_points initial{Point_3(ia.x, ia.y, ia.z), Point_3(ib.x, ib.y, ib.z), Point_3(ic.x, ic.y, ic.z)};
+      return orientation_flip_test(initial, after) != Flip_state::kept;
+    };
+#pragma omp parallel for schedule(static) if (parallel)
+    for (std::ptrdiff_t f = 0; f < snf; ++f) flipped[std::size_t(f)] = judge(std::size_t(f));
+    std::vector<std::uint32_t> flagged, changed, recheck;
+    for (std::size_t f = 0; f < nf; ++f)
+      if (flipped[f]) flagged.push_back(std::uint32_t(f));
+    for (std::uint32_t round = 1; !flagged.empty(); ++round) {
+      changed.clear();
+      for (std::uint32_t f : flagged)
+        for (std::uint32_t v : m.triangles[f]) {
+          if (m.fixed[v] || scale[v] == 0 || vertex_round[v] == round) continue;
+          vertex_round[v] = round;
+          if (halvings[v] == 0) ++report.steps_reduced;
+          if (++halvings[v] > max_halvings) {
+            scale[v] = 0;
+            ++report.steps_cancelled;
+          } else {
+            scale[v] *= 0.5;
+          }
+          changed.push_back(v);
+        }
+      if (changed.empty()) break;
+#pragma omp parallel for schedule(static) if (parallel)
+      for (std::ptrdiff_t k = 0; k < std::ptrdiff_t(changed.size()); ++k) place(changed[std::size_t(k)]);
+      recheck.clear();
+      for (std::uint32_t v : changed)
+        for (std::uint32_t k = t.vf_start[v]; k < t.vf_start[v + 1]; ++k)
+          if (face_round[t.vf[k]] != round) {
+            face_round[t.vf[k]] = round;
+            recheck.push_back(t.vf[k]);
+          }
+#pragma omp parallel for schedule(static) if (parallel)
+      for (std::ptrdiff_t k = 0; k < std::ptrdiff_t(recheck.size()); ++k)
+        flipped[recheck[std::size_t(k)]] = judge(recheck[std::size_t(k)]);
+      flagged.clear();
+      for (std::uint32_t f : recheck)
+        if (flipped[f]) flagged.push_back(f);
+    }
+
+    double step_max = 0;
+    std::size_t clamped_walks = 0;
+    bool all_finite = true;
+#pragma omp parallel for schedule(static) if (parallel) reduction(max : step_max) reduction(+ : clamped_walks) reduction(&& : all_finite)
+    for (std::ptrdiff_t si = 0; si < sn; ++si) {
+      const std::size_t i = std::size_t(si);
+      const V3 q = load(next.data(), i), d = q - load(P, i);
+      all_finite = all_finite && finite(q);
+      step_max = std::max(step_max, dot(d, d));
+      if (!m.fixed[i] && modified && scale[i] > 0) clamped_walks += walk_clamped[i];
+      // The modified Laplacian's reference does not change: the next walk starts where this
+      // one landed. The modified mean curvature's reference is this iteration's mesh, on which
+      // the vertex is a corner of its own faces.
+      if (s.kind == Flow_kind::modified_laplacian && scale[i] > 0) home[i] = landing[i];
+    }
+    if (!all_finite) throw Numerical_error("smooth: a vertex position became non-finite in iteration " + std::to_string(it));
+    cur.swap(next);
+    report.clamped_cotangents += clamped_cot;
+    report.projections_clamped += clamped_walks;
+    report.last_step_max_displacement = std::sqrt(step_max);
+    ++report.iterations;
+  }
+  m.points = cur;
+}
+
+}  // namespace internal
+}  // namespace meshfit
