@@ -202,6 +202,7 @@ TEST_CASE("cli: partition reports curves that cross without a shared vertex: sta
   CHECK(r.err.find("1 of 2 segments could not be made mesh edges") != std::string::npos);
   CHECK_FALSE(std::filesystem::exists(dir.file("o.ply")));
   CHECK(read_text(dir.file("o.json")).find("\"not_embedded_segments\": [1]") != std::string::npos);
+}
 
 TEST_CASE("cli: smooth holds the curves fixed and keeps regions and curve edges", "[cli][smooth]") {
   Temp_dir dir;
