@@ -2,6 +2,9 @@
 
 #include "test_helpers.h"
 
+#include <CGAL/Exact_rational.h>
+
+#include <iomanip>
 #include <random>
 
 using meshfit::Flip_state;
@@ -85,4 +88,49 @@ TEST_CASE("flip: named cases", "[flip]") {
     CHECK(meshfit::normal_angle_flip_test(b, a, CGAL_PI / 2) == Flip_state::flipped);
     CHECK(meshfit::normal_angle_flip_test(b, a, 2.0) == Flip_state::kept);
   }
+}
+
+TEST_CASE("flip: orientation in a plane is exact near degeneracy (filter and exact fallback)", "[flip]") {
+  // Points on a plane, rounded to doubles and nudged by a few ulps: the double evaluation is
+  // unreliable here, so the floating-point filter must defer; compare with rational arithmetic.
+  using Q = CGAL::Exact_rational;
+  auto exact = [](const Triangle_points& t, const Point_3& a, const Point_3& b, const Point_3& c) {
+    // (Q may be gmpxx's mpq_class: name the type, or `auto` keeps an expression of temporaries.)
+    auto d = [](const Point_3& p, const Point_3& q, int k) -> Q { return Q(p[k]) - Q(q[k]); };
+    Q e1[3], e2[3], u[3], v[3];
+    for (int k = 0; k < 3; ++k) e1[k] = d(t[1], t[0], k), e2[k] = d(t[2], t[0], k), u[k] = d(b, a, k), v[k] = d(c, a, k);
+    const Q n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+    const Q w[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+    return CGAL::sign(n[0] * w[0] + n[1] * w[1] + n[2] * w[2]);
+  };
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::uniform_int_distribution<int> ulps(-3, 3);
+  std::size_t zero = 0, positive = 0, negative = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const Triangle_points plane{Point_3(u(rng), u(rng), u(rng)), Point_3(u(rng), u(rng), u(rng)),
+                                Point_3(u(rng), u(rng), u(rng))};
+    // a, b and c collinear in 3D up to rounding: their orientation in any plane is nearly zero.
+    const Point_3 a(u(rng), u(rng), u(rng)), b(u(rng), u(rng), u(rng));
+    const double s = u(rng);
+    auto nudge = [&](double x) {
+      for (int k = ulps(rng); k != 0; k += k > 0 ? -1 : 1) x = std::nextafter(x, k > 0 ? 2.0 : -2.0);
+      return x;
+    };
+    const Point_3 c(nudge(a.x() + s * (b.x() - a.x())), nudge(a.y() + s * (b.y() - a.y())),
+                    nudge(a.z() + s * (b.z() - a.z())));
+    const CGAL::Sign want = exact(plane, a, b, c);
+    INFO(std::setprecision(17) << plane[0] << " | " << plane[1] << " | " << plane[2] << " | " << a << " | " << b << " | " << c);
+    REQUIRE(meshfit::orientation_in_plane(plane, a, b, c) == want);
+    (want == CGAL::ZERO ? zero : want == CGAL::POSITIVE ? positive : negative)++;
+  }
+  // Also far from degeneracy, where the filter decides alone.
+  for (int i = 0; i < 20000; ++i) {
+    const Triangle_points plane{Point_3(u(rng), u(rng), u(rng)), Point_3(u(rng), u(rng), u(rng)),
+                                Point_3(u(rng), u(rng), u(rng))};
+    const Point_3 a(u(rng), u(rng), u(rng)), b(u(rng), u(rng), u(rng)), c(u(rng), u(rng), u(rng));
+    REQUIRE(meshfit::orientation_in_plane(plane, a, b, c) == exact(plane, a, b, c));
+  }
+  CHECK(positive > 1000);
+  CHECK(negative > 1000);
 }

@@ -75,7 +75,8 @@ struct Partition_report {
   std::size_t curve_edges = 0;
   std::size_t regions = 0;
   std::size_t vertices = 0, faces = 0;            ///< unchanged by partitioning
-  double seconds = 0;
+  double seconds = 0;                             ///< in all; by phase:
+  double matching_seconds = 0, walk_seconds = 0, fallback_seconds = 0, region_seconds = 0;
   /// For each network vertex, the index (in the order of vertices(tm)) of its mesh vertex.
   std::vector<std::size_t> mesh_vertex_of_network_vertex;
 };
@@ -92,6 +93,9 @@ class Partitioner {
   using Point = typename boost::property_traits<VPM>::value_type;
 
   // Everything an insertion changes, so that a failed insertion is undone exactly.
+  // The faces of a clear-out region with their corners before re-triangulation, sorted by face.
+  using Region = std::vector<std::pair<face_descriptor, std::array<vertex_descriptor, 3>>>;
+
   struct Journal {
     std::vector<halfedge_descriptor> flips;
     std::vector<std::pair<vertex_descriptor, Point_3>> moves;  // (vertex, position before)
@@ -176,32 +180,38 @@ class Partitioner {
     return false;
   }
 
-  /// Numbers the connected sets of faces between curve edges; returns how many.
+  /// Numbers the connected sets of faces between curve edges, in the order of their first face;
+  /// returns how many. (Union-find over the edges in storage order: a flood fill jumps about the
+  /// face arrays and was the slowest part of partitioning a 1e6-face mesh.)
   template <typename FacePatchMap>
   std::size_t label_regions(FacePatchMap fpm) {
-    auto region = get(CGAL::dynamic_face_property_t<std::size_t>(), m_tm);
-    const std::size_t none = static_cast<std::size_t>(-1);
-    for (auto f : faces(m_tm)) put(region, f, none);
+    auto index_of = get(CGAL::dynamic_face_property_t<std::size_t>(), m_tm);
+    std::size_t n = 0;
+    for (auto f : faces(m_tm)) put(index_of, f, n++);
+    std::vector<std::size_t> parent(n);
+    for (std::size_t i = 0; i < n; ++i) parent[i] = i;
+    auto root = [&parent](std::size_t i) {
+      while (parent[i] != i) i = parent[i] = parent[parent[i]];
+      return i;
+    };
+    for (auto e : edges(m_tm)) {
+      const halfedge_descriptor h = halfedge(e, m_tm), g = opposite(h, m_tm);
+      if (is_border(h, m_tm) || is_border(g, m_tm) || get(m_ecm, e)) continue;
+      const std::size_t a = root(get(index_of, face(h, m_tm))), b = root(get(index_of, face(g, m_tm)));
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+    // Roots are the lowest face of each set, so labels follow the order of first faces.
+    std::vector<std::size_t> label(n, static_cast<std::size_t>(-1));
     std::size_t count = 0;
-    std::vector<face_descriptor> stack;
-    for (auto f0 : faces(m_tm)) {
-      if (get(region, f0) != none) continue;
-      put(region, f0, count);
-      stack.push_back(f0);
-      while (!stack.empty()) {
-        const face_descriptor f = stack.back();
-        stack.pop_back();
-        if constexpr (!std::is_same_v<FacePatchMap, CGAL::internal_np::Param_not_found>)
-          put(fpm, f, static_cast<typename boost::property_traits<FacePatchMap>::value_type>(count));
-        for (auto h : CGAL::halfedges_around_face(halfedge(f, m_tm), m_tm)) {
-          if (get(m_ecm, edge(h, m_tm)) || is_border(opposite(h, m_tm), m_tm)) continue;
-          const face_descriptor g = face(opposite(h, m_tm), m_tm);
-          if (get(region, g) != none) continue;
-          put(region, g, count);
-          stack.push_back(g);
-        }
-      }
-      ++count;
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::size_t r = root(i);
+      if (label[r] == static_cast<std::size_t>(-1)) label[r] = count++;
+      label[i] = label[r];
+    }
+    if constexpr (!std::is_same_v<FacePatchMap, CGAL::internal_np::Param_not_found>) {
+      std::size_t i = 0;
+      for (auto f : faces(m_tm))
+        put(fpm, f, static_cast<typename boost::property_traits<FacePatchMap>::value_type>(label[i++]));
     }
     return count;
   }
@@ -297,9 +307,11 @@ class Partitioner {
                           const Cutting_plane& plane, Journal& j) {
     // The clear-out region's faces as they were: flips reuse the two face descriptors of each
     // quadrilateral, so the region keeps these descriptors throughout.
-    std::map<face_descriptor, std::array<vertex_descriptor, 3>> before;
+    Region before;
     for (halfedge_descriptor h : crossed)
-      for (halfedge_descriptor g : {h, opposite(h, m_tm)}) before.emplace(face(g, m_tm), corners(face(g, m_tm)));
+      for (halfedge_descriptor g : {h, opposite(h, m_tm)}) before.emplace_back(face(g, m_tm), corners(face(g, m_tm)));
+    std::sort(before.begin(), before.end());
+    before.erase(std::unique(before.begin(), before.end()), before.end());
     // Seen along N (the view of the cutting plane) the region must be a flat triangulated
     // polygon: then flipping is the planar algorithm, which always finds an edge to flip.
     for (const auto& entry : before) {
@@ -361,14 +373,21 @@ class Partitioner {
   // is valid in the view along N (exact). The angle sums only rank triangulations that are all
   // valid; they are measured in 3D in floating point. Bounded, since in 3D the criterion need
   // not decrease.
-  template <typename Region>
   void improve_angles(const Region& region, vertex_descriptor p, vertex_descriptor q, const Cutting_plane& plane,
                       Journal& j) {
-    auto in_region = [&](halfedge_descriptor h) { return !is_border(h, m_tm) && region.count(face(h, m_tm)) > 0; };
-    auto opposite_angle = [&](halfedge_descriptor h) {
+    auto in_region = [&](halfedge_descriptor h) {
+      if (is_border(h, m_tm)) return false;
+      const face_descriptor f = face(h, m_tm);
+      const auto it = std::lower_bound(region.begin(), region.end(), f,
+                                       [](const auto& entry, face_descriptor g) { return entry.first < g; });
+      return it != region.end() && it->first == f;
+    };
+    // The angle facing h, as (|x × y|, x · y) ∝ (sin, cos); α + β > π exactly when
+    // sin(α + β) = sin α cos β + cos α sin β < 0.
+    auto facing = [&](halfedge_descriptor h) {
       const Point_3 u = point(source(h, m_tm)), w = point(target(h, m_tm)), x = point(target(next(h, m_tm), m_tm));
       const Vector_3 a = u - x, b = w - x;
-      return std::atan2(std::sqrt(CGAL::cross_product(a, b).squared_length()), a * b);
+      return std::make_pair(std::sqrt(CGAL::cross_product(a, b).squared_length()), a * b);
     };
     std::deque<halfedge_descriptor> queue;
     for (const auto& entry : region)
@@ -381,7 +400,11 @@ class Partitioner {
       if (!in_region(h) || !in_region(g)) continue;
       const vertex_descriptor u = source(h, m_tm), w = target(h, m_tm);
       if ((u == p && w == q) || (u == q && w == p)) continue;
-      if (opposite_angle(h) + opposite_angle(g) <= CGAL_PI * (1 + 1e-12) || !flippable(h, plane)) continue;
+      const auto [sin_a, cos_a] = facing(h);
+      const auto [sin_b, cos_b] = facing(g);
+      if (sin_a * cos_b + cos_a * sin_b >= -1e-12 * (sin_a + std::abs(cos_a)) * (sin_b + std::abs(cos_b)) ||
+          !flippable(h, plane))
+        continue;
       CGAL::Euler::flip_edge(h, m_tm);
       j.flips.push_back(h);
       ++flips;
@@ -494,6 +517,30 @@ class Partitioner {
 /// vertices have the same mesh vertex).
 inline std::vector<std::size_t> match_network_vertices(const std::vector<Point_3>& mesh_points,
                                                        const Curve_network& network) {
+  // Usually (after deform) every network vertex is exactly a mesh vertex: look the mesh's points
+  // up by value first; the nearest-vertex search is needed only when one is not.
+  {
+    struct Hash {
+      std::size_t operator()(const Point_3& p) const {
+        const std::hash<double> h;
+        return h(p.x()) ^ (h(p.y()) * 0x9e3779b97f4a7c15ULL) ^ (h(p.z()) * 0xc2b2ae3d27d4eb4fULL);
+      }
+    };
+    std::unordered_map<Point_3, std::size_t, Hash> network_vertex;
+    network_vertex.reserve(network.number_of_vertices());
+    for (std::size_t v = 0; v < network.number_of_vertices(); ++v) network_vertex.emplace(network.point(v), v);
+    std::vector<std::size_t> mesh_vertex(network.number_of_vertices(), Closest_point_assignment::unassigned);
+    std::size_t found = 0;
+    for (std::size_t i = 0; i < mesh_points.size(); ++i) {
+      const auto it = network_vertex.find(mesh_points[i]);
+      // The first of several mesh vertices at one position, as the nearest-vertex search would.
+      if (it != network_vertex.end() && mesh_vertex[it->second] == Closest_point_assignment::unassigned) {
+        mesh_vertex[it->second] = i;
+        ++found;
+      }
+    }
+    if (found == mesh_vertex.size()) return mesh_vertex;
+  }
   const Closest_point_assignment a = closest_point_correspondences(mesh_points, network);
   for (std::size_t v = 0; v < network.number_of_vertices(); ++v) {
     std::ostringstream where;
@@ -569,7 +616,9 @@ Partition_report partition_mesh(TriangleMesh& tm, const Curve_network& network,
     const auto [a, b] = ends(s);
     if (p.take_existing_edge(a, b)) report.how[s] = Segment_embedding::existing_edge;
   }
+  report.matching_seconds = internal::seconds_since(t0);
   internal::report_progress(progress, "partition", "inserting segments along their projected paths", 1, 4);
+  const auto t1 = std::chrono::steady_clock::now();
   for (std::size_t s = 0; s < segments.size(); ++s) {
     if (report.how[s] != Segment_embedding::not_embedded) continue;
     const auto [a, b] = ends(s);
@@ -581,8 +630,10 @@ Partition_report partition_mesh(TriangleMesh& tm, const Curve_network& network,
       ++report.walks_failed;
     }
   }
+  report.walk_seconds = internal::seconds_since(t1);
   internal::report_progress(progress, "partition", "fallback: moving shortest edge paths onto the other segments", 2,
                             4);
+  const auto t2 = std::chrono::steady_clock::now();
   for (std::size_t s = 0; s < segments.size(); ++s) {
     if (report.how[s] != Segment_embedding::not_embedded) continue;
     const auto [a, b] = ends(s);
@@ -598,8 +649,11 @@ Partition_report partition_mesh(TriangleMesh& tm, const Curve_network& network,
     report.by_walk += h == Segment_embedding::walk;
     report.by_fallback += h == Segment_embedding::fallback;
   }
+  report.fallback_seconds = internal::seconds_since(t2);
   internal::report_progress(progress, "partition", "labelling regions", 3, 4);
+  const auto t3 = std::chrono::steady_clock::now();
   report.regions = p.label_regions(get_parameter(np, CGAL::internal_np::face_patch));
+  report.region_seconds = internal::seconds_since(t3);
   for (auto e : edges(tm)) report.curve_edges += get(ecm, e) ? 1 : 0;
   report.vertices = num_vertices(tm);
   report.faces = num_faces(tm);

@@ -70,8 +70,10 @@ inline const char* to_string(Walk_status s) {
 struct Cutting_plane {
   Point_3 a, b, e;
   Triangle_points view() const { return {a, b, e}; }
-  /// Exact side of `p`.
-  CGAL::Sign side(const Point_3& p) const { return orientation_in_plane(view(), a, b, p); }
+  /// Exact side of `p` (a and b themselves, which end most walks, without arithmetic).
+  CGAL::Sign side(const Point_3& p) const {
+    return p == a || p == b ? CGAL::ZERO : orientation_in_plane(view(), a, b, p);
+  }
   /// Exact: p's projection on the line ab lies strictly between a and b.
   bool strictly_between(const Point_3& p) const {
     return CGAL::angle(b, a, p) == CGAL::ACUTE && CGAL::angle(a, b, p) == CGAL::ACUTE;
