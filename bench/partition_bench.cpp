@@ -1,13 +1,19 @@
 // Benchmark of stage 2: partition a sphere of about 2 × <points> faces by <circles> parallel
 // circles of <samples> segments each. The mesh is the convex hull of random points and the circles'
 // samples, so every network vertex is a mesh vertex and the segments are (mostly) not edges.
-//   partition_bench <points> <circles> <samples> [repeats]
+//   partition_bench <points> <circles> <samples> [repeats] [order]
+// order: "hilbert" (default: the points, hence the mesh's vertices and faces, in Hilbert-curve
+// order, as meshes from modelling tools and scanners usually come) or "random" (the order of
+// random generation: every step of a walk is a cache miss on a 1e6-face mesh).
 // Prints key=value pairs: the counts of the report and the time per segment and per face crossed
 // (the fastest of `repeats` runs, each on a fresh copy of the mesh).
 #include <meshfit/partition.h>
 
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/convex_hull_3.h>
+#include <CGAL/Spatial_sort_traits_adapter_3.h>
+#include <CGAL/hilbert_sort.h>
+#include <meshfit/io.h>
 
 #include <chrono>
 #include <cmath>
@@ -16,12 +22,13 @@
 #include <string>
 
 int main(int argc, char** argv) {
-  if (argc != 4 && argc != 5) {
-    std::fprintf(stderr, "usage: partition_bench <points> <circles> <samples> [repeats]\n");
+  if (argc < 4 || argc > 6) {
+    std::fprintf(stderr, "usage: partition_bench <points> <circles> <samples> [repeats] [hilbert|random]\n");
     return 2;
   }
   const std::size_t n = std::stoul(argv[1]), circles = std::stoul(argv[2]), samples = std::stoul(argv[3]);
-  const std::size_t repeats = argc == 5 ? std::stoul(argv[4]) : 1;
+  const std::size_t repeats = argc >= 5 ? std::stoul(argv[4]) : 1;
+  const std::string order = argc >= 6 ? argv[5] : "hilbert";
   using Mesh = CGAL::Surface_mesh<meshfit::Point_3>;
   std::mt19937_64 rng(4);
   std::normal_distribution<double> g;
@@ -47,6 +54,25 @@ int main(int argc, char** argv) {
   Mesh tm;
   CGAL::convex_hull_3(points.begin(), points.end(), tm);
   const double hull_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (order == "hilbert") {
+    // Renumber the vertices along a Hilbert curve and the faces by their first vertex.
+    meshfit::Mesh_data d = meshfit::to_mesh_data(tm);
+    std::vector<std::ptrdiff_t> by_curve(d.points.size());
+    std::vector<std::size_t> new_index(d.points.size());
+    for (std::size_t i = 0; i < by_curve.size(); ++i) by_curve[i] = static_cast<std::ptrdiff_t>(i);
+    using Traits = CGAL::Spatial_sort_traits_adapter_3<meshfit::Kernel, const meshfit::Point_3*>;
+    CGAL::hilbert_sort(by_curve.begin(), by_curve.end(), Traits(d.points.data()));
+    meshfit::Mesh_data sorted;
+    for (std::size_t k = 0; k < by_curve.size(); ++k) {
+      new_index[static_cast<std::size_t>(by_curve[k])] = k;
+      sorted.points.push_back(d.points[static_cast<std::size_t>(by_curve[k])]);
+    }
+    for (auto t : d.triangles) sorted.triangles.push_back({new_index[t[0]], new_index[t[1]], new_index[t[2]]});
+    std::sort(sorted.triangles.begin(), sorted.triangles.end(), [](const auto& x, const auto& y) {
+      return std::min({x[0], x[1], x[2]}) < std::min({y[0], y[1], y[2]});
+    });
+    meshfit::build_triangle_mesh(sorted, tm);
+  }
   const meshfit::Curve_network network(polylines);
 
   meshfit::Partition_report r;

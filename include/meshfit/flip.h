@@ -11,6 +11,7 @@
 #include <meshfit/kernel.h>
 
 #include <array>
+#include <cmath>
 
 namespace meshfit {
 
@@ -36,6 +37,41 @@ struct Flip_count {
 /// onto that plane: POSITIVE when a b c turn as `plane` does. ZERO also when `plane` is degenerate.
 CGAL::Sign orientation_in_plane(const Triangle_points& plane, const Point_3& a, const Point_3& b,
                                 const Point_3& c);
+
+/// orientation_in_plane for many triangles in one plane: the plane's normal is computed once and
+/// the floating-point filter is inline; undecided cases go to orientation_in_plane (exact).
+class Plane_orientation {
+ public:
+  Plane_orientation() = default;
+  explicit Plane_orientation(const Triangle_points& plane) : m_plane(plane) {
+    const Vector_3 e1 = plane[1] - plane[0], e2 = plane[2] - plane[0];
+    m_n[0] = e1.y() * e2.z() - e1.z() * e2.y();
+    m_n[1] = e1.z() * e2.x() - e1.x() * e2.z();
+    m_n[2] = e1.x() * e2.y() - e1.y() * e2.x();
+    m_m[0] = std::abs(e1.y() * e2.z()) + std::abs(e1.z() * e2.y());
+    m_m[1] = std::abs(e1.z() * e2.x()) + std::abs(e1.x() * e2.z());
+    m_m[2] = std::abs(e1.x() * e2.y()) + std::abs(e1.y() * e2.x());
+  }
+  const Triangle_points& plane() const { return m_plane; }
+  /// Same as orientation_in_plane(plane(), a, b, c). The filter is the one of orientation_in_plane
+  /// (same operations in the same order, so the same error bound, 1e-14 of the magnitude).
+  CGAL::Sign operator()(const Point_3& a, const Point_3& b, const Point_3& c) const {
+    const double u0 = b.x() - a.x(), u1 = b.y() - a.y(), u2 = b.z() - a.z();
+    const double v0 = c.x() - a.x(), v1 = c.y() - a.y(), v2 = c.z() - a.z();
+    const double d = m_n[0] * (u1 * v2 - u2 * v1) + m_n[1] * (u2 * v0 - u0 * v2) + m_n[2] * (u0 * v1 - u1 * v0);
+    const double M = m_m[0] * (std::abs(u1 * v2) + std::abs(u2 * v1)) + m_m[1] * (std::abs(u2 * v0) + std::abs(u0 * v2)) +
+                     m_m[2] * (std::abs(u0 * v1) + std::abs(u1 * v0));
+    if (M > 1e-250 && M < 1e250) {
+      if (d > 1e-14 * M) return CGAL::POSITIVE;
+      if (d < -1e-14 * M) return CGAL::NEGATIVE;
+    }
+    return orientation_in_plane(m_plane, a, b, c);
+  }
+
+ private:
+  Triangle_points m_plane;
+  double m_n[3] = {0, 0, 0}, m_m[3] = {0, 0, 0};
+};
 
 /// The flip counter (thesis §2.3.1.2): for each vertex in turn, does its motion t_i cross the line
 /// of the opposite edge d_i in Π; an odd count means the face flipped. The thesis tests all three

@@ -307,7 +307,9 @@ class Partitioner {
                           const Cutting_plane& plane, Journal& j) {
     // The clear-out region's faces as they were: flips reuse the two face descriptors of each
     // quadrilateral, so the region keeps these descriptors throughout.
-    Region before;
+    // (Buffers kept from call to call: partitioning calls this once per segment.)
+    Region& before = m_region;
+    before.clear();
     for (halfedge_descriptor h : crossed)
       for (halfedge_descriptor g : {h, opposite(h, m_tm)}) before.emplace_back(face(g, m_tm), corners(face(g, m_tm)));
     std::sort(before.begin(), before.end());
@@ -316,24 +318,39 @@ class Partitioner {
     // polygon: then flipping is the planar algorithm, which always finds an edge to flip.
     for (const auto& entry : before) {
       const auto& c = entry.second;
-      if (orientation_in_plane(plane.view(), point(c[0]), point(c[1]), point(c[2])) != CGAL::POSITIVE) return false;
+      if (plane.view(point(c[0]), point(c[1]), point(c[2])) != CGAL::POSITIVE) return false;
     }
+    const std::size_t first_flip = j.flips.size();
     if (!flip_until_uncrossed(crossed, plane, j)) return false;
-    improve_angles(before, p, q, plane, j);
+    improve_angles(before, p, q, plane, first_flip, j);
     // Each flip is valid in the view along N; in 3D a triangle on a long segment can still lean
     // away from the surface it covers. Every changed face must turn as each original face of the
     // region at each of its corners did (exact, in those faces' planes).
+    auto& faces_at = m_faces_at;  // (corner, index in `before`)
+    faces_at.clear();
+    for (std::size_t i = 0; i < before.size(); ++i)
+      for (vertex_descriptor v : before[i].second) faces_at.emplace_back(v, i);
+    std::sort(faces_at.begin(), faces_at.end());
+    auto& planes = m_planes;
+    auto& old_plane = m_old_planes;
+    old_plane.clear();
+    for (const auto& entry : before) {
+      const auto& o = entry.second;
+      old_plane.emplace_back(Triangle_points{point(o[0]), point(o[1]), point(o[2])});
+    }
     for (const auto& [f, old_corners] : before) {
       const std::array<vertex_descriptor, 3> c = corners(f);
       if (std::is_permutation(c.begin(), c.end(), old_corners.begin())) continue;
+      planes.clear();
+      for (vertex_descriptor v : c)
+        for (auto it = std::lower_bound(faces_at.begin(), faces_at.end(), std::make_pair(v, std::size_t(0)));
+             it != faces_at.end() && it->first == v; ++it)
+          planes.push_back(it->second);
+      std::sort(planes.begin(), planes.end());
+      planes.erase(std::unique(planes.begin(), planes.end()), planes.end());
       const Point_3 p0 = point(c[0]), p1 = point(c[1]), p2 = point(c[2]);
-      for (const auto& entry : before) {
-        const auto& o = entry.second;
-        if (std::find(o.begin(), o.end(), c[0]) == o.end() && std::find(o.begin(), o.end(), c[1]) == o.end() &&
-            std::find(o.begin(), o.end(), c[2]) == o.end())
-          continue;
-        if (orientation_in_plane({point(o[0]), point(o[1]), point(o[2])}, p0, p1, p2) != CGAL::POSITIVE) return false;
-      }
+      for (std::size_t i : planes)
+        if (old_plane[i](p0, p1, p2) != CGAL::POSITIVE) return false;
     }
     return true;
   }
@@ -346,7 +363,8 @@ class Partitioner {
   // Sloan's insertion: flip crossed edges whose quadrilateral is strictly convex in the view,
   // putting back those still crossed, until none is.
   bool flip_until_uncrossed(const std::vector<halfedge_descriptor>& crossed, const Cutting_plane& plane, Journal& j) {
-    std::deque<halfedge_descriptor> queue(crossed.begin(), crossed.end());
+    std::deque<halfedge_descriptor>& queue = m_queue;
+    queue.assign(crossed.begin(), crossed.end());
     const std::size_t max_flips = 16 * (crossed.size() + 1) * (crossed.size() + 1);
     std::size_t stalled = 0, flips = 0;
     while (!queue.empty()) {
@@ -374,7 +392,7 @@ class Partitioner {
   // valid; they are measured in 3D in floating point. Bounded, since in 3D the criterion need
   // not decrease.
   void improve_angles(const Region& region, vertex_descriptor p, vertex_descriptor q, const Cutting_plane& plane,
-                      Journal& j) {
+                      std::size_t first_flip, Journal& j) {
     auto in_region = [&](halfedge_descriptor h) {
       if (is_border(h, m_tm)) return false;
       const face_descriptor f = face(h, m_tm);
@@ -382,16 +400,26 @@ class Partitioner {
                                        [](const auto& entry, face_descriptor g) { return entry.first < g; });
       return it != region.end() && it->first == f;
     };
-    // The angle facing h, as (|x × y|, x · y) ∝ (sin, cos); α + β > π exactly when
-    // sin(α + β) = sin α cos β + cos α sin β < 0.
+    // The angle facing h, as the two vectors from its apex.
     auto facing = [&](halfedge_descriptor h) {
-      const Point_3 u = point(source(h, m_tm)), w = point(target(h, m_tm)), x = point(target(next(h, m_tm), m_tm));
-      const Vector_3 a = u - x, b = w - x;
-      return std::make_pair(std::sqrt(CGAL::cross_product(a, b).squared_length()), a * b);
+      const Point_3 x = point(target(next(h, m_tm), m_tm));
+      return std::make_pair(point(source(h, m_tm)) - x, point(target(h, m_tm)) - x);
     };
-    std::deque<halfedge_descriptor> queue;
-    for (const auto& entry : region)
-      for (auto h : CGAL::halfedges_around_face(halfedge(entry.first, m_tm), m_tm)) queue.push_back(h);
+    // α + β > π exactly when sin(α + β) = sin α cos β + cos α sin β < 0, impossible when both
+    // cosines are >= 0 (the common case, decided without square roots).
+    auto not_delaunay = [&](halfedge_descriptor h, halfedge_descriptor g) {
+      const auto [a1, b1] = facing(h);
+      const auto [a2, b2] = facing(g);
+      const double cos_a = a1 * b1, cos_b = a2 * b2;
+      if (cos_a >= 0 && cos_b >= 0) return false;
+      const double sin_a = std::sqrt(CGAL::cross_product(a1, b1).squared_length()),
+                   sin_b = std::sqrt(CGAL::cross_product(a2, b2).squared_length());
+      return sin_a * cos_b + cos_a * sin_b < -1e-12 * (sin_a + std::abs(cos_a)) * (sin_b + std::abs(cos_b));
+    };
+    std::deque<halfedge_descriptor>& queue = m_queue;
+    queue.clear();
+    // The edges the uncrossing flips made (the original edges were the input's choice).
+    for (std::size_t k = first_flip; k < j.flips.size(); ++k) queue.push_back(j.flips[k]);
     const std::size_t max_flips = 8 * region.size() * region.size() + 16;
     for (std::size_t flips = 0; !queue.empty() && flips < max_flips;) {
       const halfedge_descriptor h = queue.front();
@@ -400,11 +428,7 @@ class Partitioner {
       if (!in_region(h) || !in_region(g)) continue;
       const vertex_descriptor u = source(h, m_tm), w = target(h, m_tm);
       if ((u == p && w == q) || (u == q && w == p)) continue;
-      const auto [sin_a, cos_a] = facing(h);
-      const auto [sin_b, cos_b] = facing(g);
-      if (sin_a * cos_b + cos_a * sin_b >= -1e-12 * (sin_a + std::abs(cos_a)) * (sin_b + std::abs(cos_b)) ||
-          !flippable(h, plane))
-        continue;
+      if (!not_delaunay(h, g) || !flippable(h, plane)) continue;
       CGAL::Euler::flip_edge(h, m_tm);
       j.flips.push_back(h);
       ++flips;
@@ -422,8 +446,7 @@ class Partitioner {
     const vertex_descriptor x = target(next(h, m_tm), m_tm), y = target(next(g, m_tm), m_tm);
     if (x == y || halfedge(x, y, m_tm).second) return false;
     const Point_3 pu = point(u), pw = point(w), px = point(x), py = point(y);
-    return orientation_in_plane(plane.view(), pu, py, px) == CGAL::POSITIVE &&
-           orientation_in_plane(plane.view(), py, pw, px) == CGAL::POSITIVE;
+    return plane.view(pu, py, px) == CGAL::POSITIVE && plane.view(py, pw, px) == CGAL::POSITIVE;
   }
 
   // Moves vs[k] to targets[k], one after the other (recorded in `j`), and fails at the first
@@ -510,6 +533,12 @@ class Partitioner {
   typename boost::property_map<TriangleMesh, CGAL::dynamic_vertex_property_t<std::size_t>>::type m_index;
   std::vector<vertex_descriptor> m_vertex;
   std::vector<char> m_fixed;
+  // Buffers of flip_out_crossings.
+  Region m_region;
+  std::vector<std::pair<vertex_descriptor, std::size_t>> m_faces_at;
+  std::vector<std::size_t> m_planes;
+  std::vector<Plane_orientation> m_old_planes;
+  std::deque<halfedge_descriptor> m_queue;
 };
 
 /// The mesh vertex of each network vertex: the nearest one, which must lie within the network's

@@ -69,11 +69,9 @@ inline const char* to_string(Walk_status s) {
 /// the two always agree. The cutting plane is the plane through a and b containing N.
 struct Cutting_plane {
   Point_3 a, b, e;
-  Triangle_points view() const { return {a, b, e}; }
+  Plane_orientation view;  ///< orientation in the view along N: in the plane of (a, b, e)
   /// Exact side of `p` (a and b themselves, which end most walks, without arithmetic).
-  CGAL::Sign side(const Point_3& p) const {
-    return p == a || p == b ? CGAL::ZERO : orientation_in_plane(view(), a, b, p);
-  }
+  CGAL::Sign side(const Point_3& p) const { return p == a || p == b ? CGAL::ZERO : view(a, b, p); }
   /// Exact: p's projection on the line ab lies strictly between a and b.
   bool strictly_between(const Point_3& p) const {
     return CGAL::angle(b, a, p) == CGAL::ACUTE && CGAL::angle(a, b, p) == CGAL::ACUTE;
@@ -149,8 +147,30 @@ Cutting_plane cutting_plane(const TriangleMesh& tm, const VPM& vpm,
   ok = ls > 0 && std::isfinite(ls) && ld > 0;
   P.e = ok ? P.a + side * (ld / ls) : P.a;
   ok = ok && !CGAL::collinear(P.a, P.b, P.e);
+  P.view = Plane_orientation({P.a, P.b, P.e});
   return P;
 }
+
+/// A set for the elements a walk has passed: a short vector (most walks cross a few faces), then a
+/// std::set when it grows.
+template <typename T>
+class Seen {
+ public:
+  /// Inserts `x`; false when it was there already.
+  bool insert(const T& x) {
+    if (m_large.empty()) {
+      if (std::find(m_small.begin(), m_small.end(), x) != m_small.end()) return false;
+      m_small.push_back(x);
+      if (m_small.size() > 64) m_large.insert(m_small.begin(), m_small.end());
+      return true;
+    }
+    return m_large.insert(x).second;
+  }
+
+ private:
+  std::vector<T> m_small;
+  std::set<T> m_large;
+};
 
 template <typename TriangleMesh, typename VPM, typename EdgeBlocked, typename VertexBlocked>
 class Segment_walker {
@@ -244,8 +264,8 @@ class Segment_walker {
   }
 
   Walk_status walk_from(Exit exit, Surface_path<TriangleMesh>& path) const {
-    std::set<face_descriptor> visited;
-    std::set<vertex_descriptor> passed;
+    Seen<face_descriptor> visited;
+    Seen<vertex_descriptor> passed;
     path.waypoints.assign(1, m_a);
     path.crossings.assign(1, {});
     passed.insert(m_a);
@@ -260,7 +280,7 @@ class Segment_walker {
       } else {
         // Cross edges face by face until a vertex on the plane is reached.
         halfedge_descriptor e = exit.crossed;
-        if (!visited.insert(exit.face).second) return Walk_status::revisited;
+        if (!visited.insert(exit.face)) return Walk_status::revisited;
         for (;; ++step) {
           if (step >= max_steps) return Walk_status::revisited;
           const Point_3 pu = point(source(e, m_tm)), pw = point(target(e, m_tm));
@@ -270,7 +290,7 @@ class Segment_walker {
           const halfedge_descriptor g = opposite(e, m_tm);
           if (is_border(g, m_tm)) return Walk_status::boundary;
           const face_descriptor f = face(g, m_tm);
-          if (!visited.insert(f).second) return Walk_status::revisited;
+          if (!visited.insert(f)) return Walk_status::revisited;
           path.crossings.back().push_back(e);
           // g: u -> w; the third vertex of f is x.
           const vertex_descriptor third = target(next(g, m_tm), m_tm);
@@ -289,7 +309,7 @@ class Segment_walker {
       }
       if (!m_plane.strictly_between(point(x))) return Walk_status::left_segment;
       if (m_vertex_blocked(x)) return Walk_status::constrained_vertex;
-      if (!passed.insert(x).second) return Walk_status::revisited;
+      if (!passed.insert(x)) return Walk_status::revisited;
       path.waypoints.push_back(x);
       path.crossings.emplace_back();
       // Go on from x, not back the way the path came.
