@@ -3,6 +3,8 @@
 #   - RBF fit + evaluation against SciPy's RBFInterpolator (same kernel, degree 1, same data),
 #     n centres x m points, with the largest difference of the results;
 #   - closest-point correspondences (k-d tree) against brute force;
+#   - partitioning: segments per second and time per face crossed, up to a 1e6-face mesh with a
+#     20 000-segment network (no peer: the issue sets a goal of 1 µs per face crossed);
 #   - smoothing: meshfit's modified Laplacian step and combined method against CGAL's
 #     tangential_relaxation and smooth_shape on the same noisy 1e5- and 1e6-vertex spheres.
 # Installs what it needs (Debian's python3-scipy on OpenBLAS). Usage: bench/run_benchmarks.sh [build-dir]
@@ -51,6 +53,15 @@ line=$("$build/bench/closest_point_bench" 20000 1000000)
 field() { echo "$1" | tr ' ' '\n' | grep "^$2=" | cut -d= -f2; }
 t=$(field "$line" tree_s); b=$(field "$line" brute_s); a=$(field "$line" agree)
 echo "| n=20000, m=1000000 | $t | $b | $(awk -v t="$t" -v b="$b" 'BEGIN { printf "%.1fx", b / t }') | $a |"
+echo
+echo "Partitioning (stage 2): sphere = convex hull of random points and the circles' samples; parallel circles as the network (best of 3 runs)"
+echo "| faces | mesh order | segments | by walk | already edges | fallback | not embedded | faces crossed | walk s | total s | segments/s | ns per face crossed |"
+echo "|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+for spec in "50000 30 100 3 hilbert" "500000 100 200 3 hilbert" "500000 100 200 3 random"; do
+  line=$("$build/bench/partition_bench" $spec)
+  field() { echo "$line" | tr ' ' '\n' | grep "^$1=" | cut -d= -f2; }
+  echo "| $(field faces) | ${spec##* } | $(field segments) | $(field walk) | $(field existing) | $(field fallback) | $(field not_embedded) | $(field faces_crossed) | $(field walk_s) | $(field total_s) | $(field segments_per_s) | $(field ns_per_face_crossed) |"
+done
 echo
 echo "Smoothing (stage 3), noisy geodesic sphere, $(nproc) threads: time per vertex and iteration, volume change, triangle quality"
 echo "| vertices | method | iterations | µs/vertex/iteration | tangential_relaxation / this | volume change % | min angle ° | std-dev of min angles ° |"

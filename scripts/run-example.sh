@@ -8,10 +8,15 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 out="$root/out/example"
 mkdir -p "$out"
 data="$root/examples/data"
-# The full pipeline (meshfit fit) replaces these once its stages exist: the inputs checked, then
-# stage 1 (the template deformed onto the curves).
+# The full pipeline (meshfit fit) replaces these once it exists: the inputs checked, then stage 1
+# (the template deformed onto the curves), stage 2 (the curves made edges, regions labelled) and
+# stage 3 (smoothed with the curves fixed).
 "$root/build/meshfit" check --template "$data/template.off" --curves "$data/curves.polylines.txt" \
   --correspondences "$data/pairs.txt" | tee "$out/check.txt"
 "$root/build/meshfit" deform --template "$data/template.off" --curves "$data/curves.polylines.txt" \
   --correspondences "$data/pairs.txt" --output "$out/deformed.ply" --report "$out/deform-report.json"
+"$root/build/meshfit" partition --template "$out/deformed.ply" --curves "$data/curves.polylines.txt" \
+  --output "$out/partitioned.ply" --report "$out/partition-report.json"
+"$root/build/meshfit" smooth --template "$out/partitioned.ply" --curves "$data/curves.polylines.txt" \
+  --output "$out/smoothed.ply" --report "$out/smooth-report.json"
 echo "meshfit: outputs written to $out" >&2
