@@ -1,4 +1,5 @@
 #include <meshfit/deform.h>
+#include <meshfit/fit.h>
 #include <meshfit/io.h>
 #include <meshfit/partition.h>
 #include <meshfit/surface_walk.h>
@@ -45,6 +46,7 @@ struct Normals {
   std::map<V, Vector_3> at_vertex;  // area-weighted, normalised
   std::map<V, Point_3> position;
   std::set<std::array<V, 3>> faces;  // corners, sorted
+  std::size_t folded_edges = 0;
   // The face with these corners was there before, and none of them moved.
   bool unchanged(const Mesh& tm, std::vector<V> c) const {
     for (V v : c)
@@ -69,6 +71,7 @@ Normals vertex_normals(const Mesh& tm) {
     std::sort(c.begin(), c.end());
     n.faces.insert(c);
   }
+  n.folded_edges = meshfit::internal::folded_and_degenerate(tm, tm.points()).first;
   return n;
 }
 
@@ -108,6 +111,8 @@ void require_valid_and_unflipped(const Mesh& tm, const Normals& before, std::siz
   }
   CHECK(degenerate == 0);
   CHECK(flipped == 0);
+  // No fold added: adjacent faces more than 90 degrees apart (exact).
+  CHECK(meshfit::internal::folded_and_degenerate(tm, tm.points()).first <= before.folded_edges);
 }
 
 // Every segment embedded by the report is a chain of curve edges lying on its segment.

@@ -23,6 +23,7 @@
 //   | reference_points  | std::vector<Point_3>, one per vertex    | the positions at the call      |
 //   | mean_curvature_iterations | smooth_mesh's first phase       | number_of_iterations / 5 (20)  |
 //   | laplacian_iterations      | smooth_mesh's second phase      | the rest (80)                  |
+//   | check_self_intersections  | bool: fit's final verification | true                           |
 // CGAL parameters meshfit reads: vertex_point_map; number_of_iterations (deform: the most flip
 // prevention rounds, default 10; smooth: the iterations); face_patch_map and
 // edge_is_constrained_map (io; smooth: curve edges); vertex_is_constrained_map (smooth).
@@ -61,6 +62,7 @@ enum laplacian_alpha_t { laplacian_alpha };
 enum reference_points_t { reference_points };
 enum mean_curvature_iterations_t { mean_curvature_iterations };
 enum laplacian_iterations_t { laplacian_iterations };
+enum check_self_intersections_t { check_self_intersections };
 }  // namespace internal_np
 
 namespace parameters {
@@ -93,6 +95,7 @@ MESHFIT_NAMED_PARAMETER(laplacian_alpha)
 MESHFIT_NAMED_PARAMETER(reference_points)
 MESHFIT_NAMED_PARAMETER(mean_curvature_iterations)
 MESHFIT_NAMED_PARAMETER(laplacian_iterations)
+MESHFIT_NAMED_PARAMETER(check_self_intersections)
 
 #undef MESHFIT_NAMED_PARAMETER
 

@@ -351,8 +351,26 @@ class Partitioner {
       const Point_3 p0 = point(c[0]), p1 = point(c[1]), p2 = point(c[2]);
       for (std::size_t i : planes)
         if (old_plane[i](p0, p1, p2) != CGAL::POSITIVE) return false;
+      if (folds_with_neighbours(f)) return false;
     }
     return true;
+  }
+
+  // The face makes a fold with a face across one of its edges: the two turn more than 90 degrees
+  // apart (exact: the neighbour is not positively oriented in the face's plane). A vertex very
+  // close to a segment leaves a needle standing on edge; this catches it, and the caller then
+  // moves that vertex onto the segment instead (walk_and_insert).
+  bool folds_with_neighbours(face_descriptor f) const {
+    const halfedge_descriptor h0 = halfedge(f, m_tm);
+    const Plane_orientation plane(
+        Triangle_points{point(source(h0, m_tm)), point(target(h0, m_tm)), point(target(next(h0, m_tm), m_tm))});
+    for (auto h : CGAL::halfedges_around_face(h0, m_tm)) {
+      const halfedge_descriptor g = opposite(h, m_tm);
+      if (is_border(g, m_tm)) continue;
+      if (plane(point(source(g, m_tm)), point(target(g, m_tm)), point(target(next(g, m_tm), m_tm))) != CGAL::POSITIVE)
+        return true;
+    }
+    return false;
   }
 
   std::array<vertex_descriptor, 3> corners(face_descriptor f) const {
@@ -453,7 +471,8 @@ class Partitioner {
   // move that would flip or degenerate a face around the moved vertex: after the move, each
   // face around the vertex must turn as every face around it did before, in each of those
   // faces' planes (exact; comparing only with its own old plane, the flip counter's test, lets
-  // a long move stand a face on edge against its neighbours).
+  // a long move stand a face on edge against its neighbours), and fold with none of its
+  // neighbours.
   bool move_without_folding(const std::vector<vertex_descriptor>& vs, const std::vector<Point_3>& targets, Journal& j) {
     for (std::size_t k = 0; k < vs.size(); ++k) {
       const vertex_descriptor v = vs[k];
@@ -467,6 +486,8 @@ class Partitioner {
           if (orientation_in_plane(old, moved[0], to, moved[2]) != CGAL::POSITIVE) return false;
       j.moves.emplace_back(v, from);
       put(m_vpm, v, Point(to.x(), to.y(), to.z()));
+      for (auto h : CGAL::halfedges_around_target(halfedge(v, m_tm), m_tm))
+        if (!is_border(h, m_tm) && folds_with_neighbours(face(h, m_tm))) return false;  // undone by the caller
     }
     return true;
   }

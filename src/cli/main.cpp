@@ -3,6 +3,7 @@
 #include <meshfit/check.h>
 #include <meshfit/deform.h>
 #include <meshfit/exceptions.h>
+#include <meshfit/fit.h>
 #include <meshfit/io.h>
 #include <meshfit/partition.h>
 #include <meshfit/smooth.h>
@@ -54,6 +55,11 @@ const char* const usage_text =
     "                       Fixed: the mesh boundary, the curve edges' vertices (curve edges of\n"
     "                       a .ply/.obj template, and with --curves the mesh vertices on network\n"
     "                       vertices and the mesh edges along network segments)\n"
+    "fit options: those of deform (but --coarse-only) and smooth, and\n"
+    "  --allow-defects      write the result even when the final verification finds defects\n"
+    "                       (segments not embedded, folded or degenerate faces, self-intersections);\n"
+    "                       they are still reported\n"
+    "  --no-self-intersection-check  skip the final self-intersection test (the slowest check)\n"
     "  --help, --version\n";
 
 struct Usage_error {
@@ -65,6 +71,8 @@ struct Command_line {
   std::map<std::string, std::string> values;
   bool quiet = false;
   bool coarse_only = false;
+  bool allow_defects = false;
+  bool no_self_intersection_check = false;
 };
 
 Command_line parse(int argc, char** argv) {
@@ -79,6 +87,8 @@ Command_line parse(int argc, char** argv) {
     const std::string arg = argv[i];
     if (arg == "--quiet") { cl.quiet = true; continue; }
     if (arg == "--coarse-only") { cl.coarse_only = true; continue; }
+    if (arg == "--allow-defects") { cl.allow_defects = true; continue; }
+    if (arg == "--no-self-intersection-check") { cl.no_self_intersection_check = true; continue; }
     bool known = false;
     for (const char* v : valued) known = known || arg == v;
     if (!known) throw Usage_error{"unknown option '" + arg + "'"};
@@ -207,6 +217,60 @@ std::string json_quality(const meshfit::Mesh_data& out) {
   return js.str();
 }
 
+struct Deform_options {
+  meshfit::Rbf_kernel kernel = meshfit::Rbf_kernel::linear;
+  meshfit::Curve_density density = meshfit::Curve_density::refine;
+  int rounds = 10;
+};
+
+Deform_options deform_options(const Command_line& cl) {
+  Deform_options o;
+  if (cl.values.count("--kernel")) {
+    const std::string& k = cl.values.at("--kernel");
+    if (k == "cubic") o.kernel = meshfit::Rbf_kernel::cubic;
+    else if (k != "linear") throw Usage_error{"--kernel must be linear or cubic, not '" + k + "'"};
+  }
+  if (cl.values.count("--curve-density")) {
+    const std::string& d = cl.values.at("--curve-density");
+    if (d == "drop") o.density = meshfit::Curve_density::drop;
+    else if (d != "refine") throw Usage_error{"--curve-density must be refine or drop, not '" + d + "'"};
+  }
+  if (cl.values.count("--max-rounds")) {
+    const std::string& r = cl.values.at("--max-rounds");
+    char* end = nullptr;
+    const long v = std::strtol(r.c_str(), &end, 10);
+    if (end == r.c_str() || *end != '\0' || v < 1 || v > 1000)
+      throw Usage_error{"--max-rounds needs an integer from 1 to 1000, not '" + r + "'"};
+    o.rounds = static_cast<int>(v);
+  }
+  return o;
+}
+
+using Mesh = CGAL::Surface_mesh<meshfit::Point_3>;
+
+/// The inputs of deform and fit, read and checked against each other.
+struct Fit_inputs {
+  Mesh tm;
+  meshfit::Curve_network network;
+  std::vector<meshfit::Correspondence> pairs;
+  double read_seconds = 0;
+};
+
+void read_fit_inputs(const Command_line& cl, Fit_inputs& in) {
+  const std::string& template_path = cl.values.at("--template");
+  const auto t0 = std::chrono::steady_clock::now();
+  meshfit::read_triangle_mesh(template_path, in.tm);
+  in.network = meshfit::read_curve_network(cl.values.at("--curves"), merge_tolerance(cl));
+  in.pairs = meshfit::read_correspondences(cl.values.at("--correspondences"), in.network);
+  const meshfit::Mesh_data template_data = meshfit::to_mesh_data(in.tm);
+  if (template_data.triangles.empty())
+    throw meshfit::Invalid_input(meshfit::Input_location{template_path, 0, meshfit::Input_location::no_offset},
+                                 "the template has no face");
+  // Coplanar template vertices are accepted here: the RBF adds auxiliary pairs off the plane.
+  meshfit::validate_correspondences(in.pairs, template_data.points, in.network, true);
+  in.read_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
 int run_deform(const Command_line& cl) {
   require(cl, {"--template", "--curves", "--correspondences", "--output"},
           {"--report", "--merge-tolerance", "--kernel", "--curve-density", "--max-rounds"});
@@ -216,41 +280,17 @@ int run_deform(const Command_line& cl) {
   const std::vector<std::string> inputs{template_path, curves_path, pairs_path};
   const std::string report_path = check_outputs(cl, inputs);
 
-  meshfit::Rbf_kernel kernel = meshfit::Rbf_kernel::linear;
-  if (cl.values.count("--kernel")) {
-    const std::string& k = cl.values.at("--kernel");
-    if (k == "cubic") kernel = meshfit::Rbf_kernel::cubic;
-    else if (k != "linear") throw Usage_error{"--kernel must be linear or cubic, not '" + k + "'"};
-  }
-  meshfit::Curve_density density = meshfit::Curve_density::refine;
-  if (cl.values.count("--curve-density")) {
-    const std::string& d = cl.values.at("--curve-density");
-    if (d == "drop") density = meshfit::Curve_density::drop;
-    else if (d != "refine") throw Usage_error{"--curve-density must be refine or drop, not '" + d + "'"};
-  }
-  int rounds = 10;
-  if (cl.values.count("--max-rounds")) {
-    const std::string& r = cl.values.at("--max-rounds");
-    char* end = nullptr;
-    const long v = std::strtol(r.c_str(), &end, 10);
-    if (end == r.c_str() || *end != '\0' || v < 1 || v > 1000)
-      throw Usage_error{"--max-rounds needs an integer from 1 to 1000, not '" + r + "'"};
-    rounds = static_cast<int>(v);
-  }
+  const Deform_options options = deform_options(cl);
+  const meshfit::Rbf_kernel kernel = options.kernel;
+  const meshfit::Curve_density density = options.density;
+  const int rounds = options.rounds;
 
-  using Mesh = CGAL::Surface_mesh<meshfit::Point_3>;
-  Mesh tm;
-  const auto t0 = std::chrono::steady_clock::now();
-  meshfit::read_triangle_mesh(template_path, tm);
-  const meshfit::Curve_network network = meshfit::read_curve_network(curves_path, merge_tolerance(cl));
-  const auto pairs = meshfit::read_correspondences(pairs_path, network);
-  const meshfit::Mesh_data template_data = meshfit::to_mesh_data(tm);
-  if (template_data.triangles.empty())
-    throw meshfit::Invalid_input(meshfit::Input_location{template_path, 0, meshfit::Input_location::no_offset},
-                                 "the template has no face");
-  // Coplanar template vertices are accepted here: the RBF adds auxiliary pairs off the plane.
-  meshfit::validate_correspondences(pairs, template_data.points, network, true);
-  const double read_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  Fit_inputs in;
+  read_fit_inputs(cl, in);
+  Mesh& tm = in.tm;
+  const meshfit::Curve_network& network = in.network;
+  const auto& pairs = in.pairs;
+  const double read_s = in.read_seconds;
 
   const bool quiet = cl.quiet;
   const meshfit::Progress_callback progress = progress_printer(quiet);
@@ -319,7 +359,6 @@ int run_partition(const Command_line& cl) {
   const std::vector<std::string> inputs{mesh_path, curves_path};
   const std::string report_path = check_outputs(cl, inputs);
 
-  using Mesh = CGAL::Surface_mesh<meshfit::Point_3>;
   Mesh tm;
   const auto t0 = std::chrono::steady_clock::now();
   meshfit::read_triangle_mesh(mesh_path, tm);
@@ -388,6 +427,26 @@ long count_option(const Command_line& cl, const char* name, long fallback, long 
   return v;
 }
 
+struct Smooth_options {
+  long mean_curvature_iterations = 20, laplacian_iterations = 80;
+  double step = 1;
+};
+
+Smooth_options smooth_options(const Command_line& cl) {
+  Smooth_options o;
+  const long total = count_option(cl, "--iterations", 100, 100000);
+  o.mean_curvature_iterations = count_option(cl, "--mc-iterations", total / 5, 100000);
+  o.laplacian_iterations = count_option(cl, "--laplacian-iterations", total - total / 5, 100000);
+  if (cl.values.count("--step")) {
+    const std::string& x = cl.values.at("--step");
+    char* end = nullptr;
+    o.step = std::strtod(x.c_str(), &end);
+    if (end == x.c_str() || *end != '\0' || !(o.step > 0 && o.step <= 1))
+      throw Usage_error{"--step needs a number in (0, 1], not '" + x + "'"};
+  }
+  return o;
+}
+
 int run_smooth(const Command_line& cl) {
   require(cl, {"--template", "--output"},
           {"--curves", "--report", "--merge-tolerance", "--iterations", "--mc-iterations", "--laplacian-iterations",
@@ -396,19 +455,10 @@ int run_smooth(const Command_line& cl) {
   std::vector<std::string> inputs{template_path};
   if (cl.values.count("--curves")) inputs.push_back(cl.values.at("--curves"));
   const std::string report_path = check_outputs(cl, inputs);
-  const long total = count_option(cl, "--iterations", 100, 100000);
-  const long mc = count_option(cl, "--mc-iterations", total / 5, 100000);
-  const long lap = count_option(cl, "--laplacian-iterations", total - total / 5, 100000);
-  double step = 1;
-  if (cl.values.count("--step")) {
-    const std::string& x = cl.values.at("--step");
-    char* end = nullptr;
-    step = std::strtod(x.c_str(), &end);
-    if (end == x.c_str() || *end != '\0' || !(step > 0 && step <= 1))
-      throw Usage_error{"--step needs a number in (0, 1], not '" + x + "'"};
-  }
+  const Smooth_options so = smooth_options(cl);
+  const long mc = so.mean_curvature_iterations, lap = so.laplacian_iterations;
+  const double step = so.step;
 
-  using Mesh = CGAL::Surface_mesh<meshfit::Point_3>;
   const auto t0 = std::chrono::steady_clock::now();
   meshfit::Mesh_data data = meshfit::read_mesh_data(template_path);
   if (data.triangles.empty())
@@ -501,10 +551,95 @@ int run_smooth(const Command_line& cl) {
   return success;
 }
 
-int not_available(const Command_line& cl, const char* stage) {
-  std::cerr << "meshfit " << cl.command << ": not available yet: " << stage
-            << " is not implemented in meshfit " << MESHFIT_VERSION_STRING << "\n";
-  return usage_error;
+int run_fit(const Command_line& cl) {
+  require(cl, {"--template", "--curves", "--correspondences", "--output"},
+          {"--report", "--merge-tolerance", "--kernel", "--curve-density", "--max-rounds", "--iterations",
+           "--mc-iterations", "--laplacian-iterations", "--step"});
+  if (cl.coarse_only) throw Usage_error{"meshfit fit does not take --coarse-only (use meshfit deform)"};
+  const std::vector<std::string> inputs{cl.values.at("--template"), cl.values.at("--curves"),
+                                        cl.values.at("--correspondences")};
+  const std::string report_path = check_outputs(cl, inputs);
+  const Deform_options d = deform_options(cl);
+  const Smooth_options so = smooth_options(cl);
+  Fit_inputs in;
+  read_fit_inputs(cl, in);
+
+  auto curve = in.tm.add_property_map<Mesh::Edge_index, bool>("e:meshfit_curve", false).first;
+  auto region = in.tm.add_property_map<Mesh::Face_index, int>("f:meshfit_region", 0).first;
+  meshfit::Fit_report r;
+  std::string failure, failed_stage;  // a numerical failure, reported with the figures gathered so far
+  try {
+    r = meshfit::fit_template_to_curves(
+        in.tm, in.network, in.pairs,
+        meshfit::parameters::rbf_kernel(d.kernel, meshfit::parameters::curve_density(
+            d.density, meshfit::parameters::mean_curvature_iterations(
+                so.mean_curvature_iterations, meshfit::parameters::laplacian_iterations(
+                    so.laplacian_iterations, meshfit::parameters::step_size(
+                        so.step, meshfit::parameters::check_self_intersections(
+                            !cl.no_self_intersection_check, meshfit::parameters::progress(
+                                progress_printer(cl.quiet), CGAL::parameters::number_of_iterations(d.rounds)
+                                    .edge_is_constrained_map(curve).face_patch_map(region)))))))));
+  } catch (const meshfit::Numerical_error& e) {
+    failure = e.what();
+  }
+  const meshfit::Mesh_data out =
+      meshfit::to_mesh_data(in.tm, CGAL::parameters::edge_is_constrained_map(curve).face_patch_map(region));
+  const meshfit::Fit_verification& v = r.verification;
+  const std::vector<std::string> problems = v.problems();
+  const meshfit::Deformation_report& dr = r.deformation;
+  const meshfit::Partition_report& pr = r.partition;
+  const meshfit::Smoothing_report& sr = r.smoothing;
+
+  std::ostringstream js;
+  js << "{\n  \"command\": \"fit\",\n  \"meshfit_version\": \"" << MESHFIT_VERSION_STRING << "\",\n"
+     << "  \"completed\": " << (failure.empty() ? "true" : "false") << ",\n"
+     << "  \"verified\": " << (failure.empty() && problems.empty() ? "true" : "false") << ",\n"
+     << "  \"timings_s\": {\"read\": " << json_number(in.read_seconds) << ", \"deform\": " << json_number(r.deform_seconds)
+     << ", \"partition\": " << json_number(r.partition_seconds) << ", \"smooth\": " << json_number(r.smooth_seconds)
+     << ", \"verify\": " << json_number(r.verify_seconds) << ", \"total\": " << json_number(r.total_seconds) << "},\n"
+     << "  \"counts\": {\"correspondences\": " << dr.user_pairs << ", \"fine_pairs\": " << dr.fine_pairs
+     << ", \"flip_rounds\": " << dr.flip_rounds << ", \"flips_found\": " << dr.flips_found
+     << ", \"flips_fixed\": " << (dr.flips_found - dr.remaining_flips) << ", \"flips_remaining\": " << dr.remaining_flips
+     << ", \"coarse_flipped_faces\": " << dr.coarse_flipped_faces << ", \"faces_subdivided\": " << dr.faces_subdivided
+     << ", \"vertices_inserted_for_density\": " << dr.vertices_inserted_for_density
+     << ", \"vertices_inserted_for_flips\": " << dr.vertices_inserted_for_flips << ", \"segments\": " << pr.segments
+     << ", \"segments_already_edges\": " << pr.existing_edges << ", \"segments_embedded_by_walk\": " << pr.by_walk
+     << ", \"segments_embedded_by_fallback\": " << pr.by_fallback << ", \"segments_not_embedded\": " << pr.not_embedded.size()
+     << ", \"faces_crossed\": " << pr.faces_crossed << ", \"edge_flips\": " << pr.edge_flips
+     << ", \"vertices_moved_onto_segments\": " << pr.vertices_moved << ", \"regions\": " << pr.regions
+     << ", \"smoothing_iterations\": " << sr.iterations << ", \"vertices_fixed_in_smoothing\": " << sr.fixed_vertices
+     << "},\n"
+     << "  \"verification\": {\"network_vertices_missing\": " << v.network_vertices_missing
+     << ", \"segments_not_chains\": " << v.segments_not_chains << ", \"flips_remaining\": " << v.flips_remaining
+     << ", \"degenerate_faces\": " << v.degenerate_faces << ", \"folded_edges\": " << v.folded_edges
+     << ", \"template_folded_edges\": " << v.template_folded_edges
+     << ", \"self_intersection_checked\": " << (v.self_intersection_checked ? "true" : "false")
+     << ", \"self_intersects\": " << (v.self_intersects ? "true" : "false")
+     << ", \"template_self_intersects\": " << (v.template_self_intersects ? "true" : "false")
+     << ", \"non_finite_coordinates\": " << v.non_finite_coordinates << ", \"problems\": [";
+  for (std::size_t i = 0; i < problems.size(); ++i) js << (i ? ", " : "") << "\"" << problems[i] << "\"";
+  js << "]},\n"
+     << "  \"quality\": {\"template_vertices\": " << r.template_vertices << ", \"template_faces\": " << r.template_faces
+     << ", \"vertices\": " << out.points.size() << ", \"faces\": " << out.triangles.size()
+     << ", \"minimum_angle_deg\": " << json_number(minimum_angle_degrees(out))
+     << ", \"mean_smoothing_displacement\": " << json_number(sr.mean_displacement) << "}\n}\n";
+  write_report(report_path, js.str());
+
+  if (!failure.empty()) throw meshfit::Algorithm_failure("fit", failure);
+  if (!problems.empty()) {
+    std::string list;
+    for (std::size_t i = 0; i < problems.size(); ++i) list += (i ? "; " : "") + problems[i];
+    if (!cl.allow_defects)
+      throw meshfit::Algorithm_failure("fit", "the result failed verification: " + list +
+                                                  " (--allow-defects writes it anyway)");
+    if (!cl.quiet) std::cerr << "meshfit: fit: warning: defects kept (--allow-defects): " << list << "\n";
+  }
+  if (!cl.quiet)
+    std::cerr << "meshfit: fit: " << pr.segments << " segments (" << pr.by_walk << " by walk, " << pr.by_fallback
+              << " by fallback), " << pr.regions << " regions, " << dr.flips_found << " flips fixed, "
+              << r.total_seconds << " s\n";
+  write_output(cl, out, inputs, report_path);
+  return success;
 }
 
 }  // namespace
@@ -521,7 +656,7 @@ int main(int argc, char** argv) {
     }
     const Command_line cl = parse(argc, argv);
     if (cl.command == "check") return run_check(cl);
-    if (cl.command == "fit") return not_available(cl, "the full pipeline");
+    if (cl.command == "fit") return run_fit(cl);
     if (cl.command == "deform") return run_deform(cl);
     if (cl.command == "partition") return run_partition(cl);
     if (cl.command == "smooth") return run_smooth(cl);

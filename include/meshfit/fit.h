@@ -1,0 +1,263 @@
+// meshfit: the whole pipeline (thesis §1.3, fig. 1.4): the template deformed onto the curves
+// (stage 1, deform.h), the curves made chains of mesh edges and the regions between them labelled
+// (stage 2, partition.h), the result smoothed with the curves held (stage 3, smooth.h), and a final
+// verification of the result.
+#ifndef MESHFIT_FIT_H
+#define MESHFIT_FIT_H
+
+#include <meshfit/correspondence.h>
+#include <meshfit/curve_network.h>
+#include <meshfit/deform.h>
+#include <meshfit/exceptions.h>
+#include <meshfit/flip.h>
+#include <meshfit/io.h>
+#include <meshfit/internal/stage_support.h>
+#include <meshfit/parameters.h>
+#include <meshfit/partition.h>
+#include <meshfit/smooth.h>
+
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
+
+#include <chrono>
+#include <cmath>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace meshfit {
+
+/// The final checks of fit_template_to_curves.
+struct Fit_verification {
+  std::size_t network_vertices = 0;
+  std::size_t network_vertices_missing = 0;  ///< not exactly at a mesh vertex's position
+  std::size_t segments = 0;
+  std::size_t segments_not_chains = 0;       ///< not a chain of curve edges lying on the segment
+  std::size_t flips_remaining = 0;           ///< faces stage 1 could not keep from flipping
+  std::size_t degenerate_faces = 0;          ///< zero area (exact)
+  /// Interior edges whose two faces turn more than 90 degrees apart (exact: one face is not
+  /// positively oriented in the other's plane), in the result and in the template: a flipped face
+  /// folds over its neighbours, so the fit must not add any.
+  std::size_t folded_edges = 0, template_folded_edges = 0;
+  bool self_intersects = false, template_self_intersects = false;
+  bool self_intersection_checked = false;
+  std::size_t non_finite_coordinates = 0;
+
+  /// What is wrong, one sentence each; empty when everything holds.
+  std::vector<std::string> problems() const {
+    std::vector<std::string> p;
+    auto n = [](std::size_t k) { return std::to_string(k); };
+    if (network_vertices_missing)
+      p.push_back(n(network_vertices_missing) + " of " + n(network_vertices) + " network vertices are not mesh vertices");
+    if (segments_not_chains)
+      p.push_back(n(segments_not_chains) + " of " + n(segments) + " segments are not chains of mesh edges");
+    if (flips_remaining) p.push_back(n(flips_remaining) + " faces flipped in the deformation");
+    if (degenerate_faces) p.push_back(n(degenerate_faces) + " faces have zero area");
+    if (folded_edges > template_folded_edges)
+      p.push_back(n(folded_edges) + " folded edges (the template has " + n(template_folded_edges) + ")");
+    if (self_intersects && !template_self_intersects) p.push_back("the result intersects itself (the template does not)");
+    if (non_finite_coordinates) p.push_back(n(non_finite_coordinates) + " non-finite coordinates");
+    return p;
+  }
+  bool passed() const { return problems().empty(); }
+};
+
+/// What fit_template_to_curves did.
+struct Fit_report {
+  Deformation_report deformation;
+  Partition_report partition;
+  Smoothing_report smoothing;
+  Fit_verification verification;
+  double deform_seconds = 0, partition_seconds = 0, smooth_seconds = 0, verify_seconds = 0, total_seconds = 0;
+  std::size_t template_vertices = 0, template_faces = 0;
+  std::size_t vertices = 0, faces = 0;
+  double minimum_angle_deg = 0;  ///< smallest angle of the result's triangles
+  /// For each network vertex, the index of its mesh vertex (order of vertices(tm)).
+  std::vector<std::size_t> mesh_vertex_of_network_vertex;
+};
+
+namespace internal {
+
+/// Smallest interior angle of the triangles of `tm`, in degrees (floating point; a quality figure).
+template <typename TriangleMesh, typename VPM>
+double minimum_angle_degrees(const TriangleMesh& tm, const VPM& vpm) {
+  double best = 180;
+  for (auto f : faces(tm)) {
+    const auto h = halfedge(f, tm);
+    const Point_3 p[3] = {point_of<TriangleMesh>(vpm, source(h, tm)), point_of<TriangleMesh>(vpm, target(h, tm)),
+                          point_of<TriangleMesh>(vpm, target(next(h, tm), tm))};
+    for (int k = 0; k < 3; ++k) {
+      const Vector_3 a = p[(k + 1) % 3] - p[k], b = p[(k + 2) % 3] - p[k];
+      const double s = std::sqrt(CGAL::cross_product(a, b).squared_length()), c = a * b;
+      best = std::min(best, s > 0 || c > 0 ? std::atan2(s, c) * 180 / CGAL_PI : 0.0);
+    }
+  }
+  return best;
+}
+
+/// Interior edges of `tm` whose two faces turn more than 90 degrees apart, and zero-area faces.
+template <typename TriangleMesh, typename VPM>
+std::pair<std::size_t, std::size_t> folded_and_degenerate(const TriangleMesh& tm, const VPM& vpm) {
+  auto corners = [&](auto h) {
+    return Triangle_points{point_of<TriangleMesh>(vpm, source(h, tm)), point_of<TriangleMesh>(vpm, target(h, tm)),
+                           point_of<TriangleMesh>(vpm, target(next(h, tm), tm))};
+  };
+  std::size_t folded = 0, degenerate = 0;
+  for (auto f : faces(tm)) {
+    const Triangle_points t = corners(halfedge(f, tm));
+    degenerate += CGAL::collinear(t[0], t[1], t[2]) ? 1 : 0;
+  }
+  for (auto e : edges(tm)) {
+    const auto h = halfedge(e, tm), g = opposite(h, tm);
+    if (is_border(h, tm) || is_border(g, tm)) continue;
+    const Triangle_points a = corners(h), b = corners(g);
+    if (orientation_in_plane(a, b[0], b[1], b[2]) != CGAL::POSITIVE) ++folded;
+  }
+  return {folded, degenerate};
+}
+
+}  // namespace internal
+
+/// Fits `tm` (the template) to `network` through the user's `pairs` (template vertex index →
+/// network vertex) and partitions it by the curves:
+///   1. deform_template (coarse RBF through the pairs, fine RBF through closest-point pairs, flip
+///      prevention; thesis ch. 2);
+///   2. partition_mesh (every segment a chain of mesh edges, regions labelled; ch. 3);
+///   3. smooth_mesh with the curve edges and their vertices held (ch. 4);
+///   4. verification (Fit_verification): network vertices are mesh vertices, segments are edge
+///      chains, no flipped (folded) or degenerate face, no self-intersection the template did not
+///      have (PMP::does_self_intersect), finite coordinates.
+/// The work is done on a copy: `tm` is replaced by the result only when every stage completed, so
+/// an exception (including a cancel from the `progress` callback, Algorithm_failure) leaves it as
+/// it was. Vertex i of the result is template vertex i (moved); vertices added by stage 1 follow.
+/// A failed verification does not throw: the report says what is wrong and the caller decides.
+/// Named parameters:
+///   `vertex_point_map` (of `tm`);
+///   `edge_is_constrained_map`, `face_patch_map` (outputs: curve edges, regions of the result);
+///   stage 1: `rbf_kernel`, `curve_density`, `number_of_iterations` (flip prevention rounds, 10);
+///   stage 3: `mean_curvature_iterations` (20), `laplacian_iterations` (80), `step_size` (1);
+///   `check_self_intersections` (bool, default true: the most expensive check);
+///   `progress` (called by every stage with its own stage name, and by the verification as "fit").
+/// \throws Invalid_input for pairs out of range or that define no interpolant;
+///         Algorithm_failure when the pairs mirror the template, when some network vertex could
+///         not be given a mesh vertex (Curve_density::drop), or when cancelled.
+template <typename TriangleMesh, typename NamedParameters = CGAL::parameters::Default_named_parameters>
+Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& network,
+                                  const std::vector<Correspondence>& pairs,
+                                  const NamedParameters& np = CGAL::parameters::default_values()) {
+  using CGAL::parameters::choose_parameter;
+  using CGAL::parameters::get_parameter;
+  using GT = boost::graph_traits<TriangleMesh>;
+  const auto t0 = std::chrono::steady_clock::now();
+
+  Progress_callback progress = [](const Progress_step&) { return true; };
+  if constexpr (!std::is_same_v<decltype(get_parameter(np, internal_np::progress)), CGAL::internal_np::Param_not_found>)
+    progress = get_parameter(np, internal_np::progress);
+  const Rbf_kernel kernel = choose_parameter(get_parameter(np, internal_np::rbf_kernel), Rbf_kernel::linear);
+  const Curve_density density =
+      choose_parameter(get_parameter(np, internal_np::curve_density), Curve_density::refine);
+  const int rounds = choose_parameter(get_parameter(np, CGAL::internal_np::number_of_iterations), 10);
+  const std::size_t mc_iterations = choose_parameter(get_parameter(np, internal_np::mean_curvature_iterations), 20);
+  const std::size_t lap_iterations = choose_parameter(get_parameter(np, internal_np::laplacian_iterations), 80);
+  const double step = choose_parameter(get_parameter(np, internal_np::step_size), 1.0);
+  const bool check_self_intersections =
+      choose_parameter(get_parameter(np, internal_np::check_self_intersections), true);
+  const auto vpm = internal::vertex_point_map_of(tm, np);
+
+  Fit_report report;
+  report.template_vertices = num_vertices(tm);
+  report.template_faces = num_faces(tm);
+
+  // The copy the stages work on (through Mesh_data, which keeps the order of vertices and faces;
+  // CGAL::copy_face_graph does not).
+  TriangleMesh work;
+  build_triangle_mesh(to_mesh_data(tm, CGAL::parameters::vertex_point_map(vpm)), work);
+  const auto wvpm = get(CGAL::vertex_point, work);
+
+  auto t = std::chrono::steady_clock::now();
+  report.deformation = deform_template(
+      work, network, pairs,
+      parameters::rbf_kernel(kernel, parameters::curve_density(
+          density, parameters::progress(progress, CGAL::parameters::number_of_iterations(rounds)))));
+  report.deform_seconds = internal::seconds_since(t);
+  if (report.deformation.orientation_reversed)
+    throw Algorithm_failure("deform", "the correspondences mirror the template: the coarse level flips " +
+                                          std::to_string(report.deformation.coarse_flipped_faces) + " of " +
+                                          std::to_string(report.template_faces) + " faces");
+  if (!report.deformation.dropped_network_vertices.empty())
+    throw Algorithm_failure("deform", std::to_string(report.deformation.dropped_network_vertices.size()) +
+                                          " network vertices have no mesh vertex of their own, so their segments "
+                                          "cannot be made mesh edges");
+
+  t = std::chrono::steady_clock::now();
+  auto curve = get(CGAL::dynamic_edge_property_t<bool>(), work);
+  auto region = get(CGAL::dynamic_face_property_t<std::size_t>(), work);
+  report.partition = partition_mesh(
+      work, network, parameters::progress(progress, CGAL::parameters::edge_is_constrained_map(curve).face_patch_map(region)));
+  report.partition_seconds = internal::seconds_since(t);
+  report.mesh_vertex_of_network_vertex = report.partition.mesh_vertex_of_network_vertex;
+
+  t = std::chrono::steady_clock::now();
+  if (mc_iterations + lap_iterations > 0)
+    report.smoothing = smooth_mesh(
+        work, parameters::mean_curvature_iterations(
+                  mc_iterations, parameters::laplacian_iterations(
+                                     lap_iterations, parameters::step_size(
+                                                         step, parameters::progress(
+                                                                   progress, CGAL::parameters::edge_is_constrained_map(curve))))));
+  report.smooth_seconds = internal::seconds_since(t);
+
+  // Verification.
+  t = std::chrono::steady_clock::now();
+  internal::report_progress(progress, "fit", "verifying the result", 0, 1);
+  Fit_verification& v = report.verification;
+  std::vector<typename GT::vertex_descriptor> vertex_of;
+  for (auto w : vertices(work)) vertex_of.push_back(w);
+  v.network_vertices = network.number_of_vertices();
+  for (std::size_t k = 0; k < network.number_of_vertices(); ++k)
+    if (get(wvpm, vertex_of[report.mesh_vertex_of_network_vertex[k]]) != network.point(k)) ++v.network_vertices_missing;
+  v.segments = network.number_of_segments();
+  const double tolerance = 1e-9 * std::sqrt(CGAL::squared_distance(Point_3(network.bbox().xmin(), network.bbox().ymin(), network.bbox().zmin()),
+                                                                   Point_3(network.bbox().xmax(), network.bbox().ymax(), network.bbox().zmax())));
+  for (const auto& s : network.segments()) {
+    const auto a = vertex_of[report.mesh_vertex_of_network_vertex[s[0]]], b = vertex_of[report.mesh_vertex_of_network_vertex[s[1]]];
+    if (segment_edge_chain(work, wvpm, curve, a, b, tolerance).size() < 2) ++v.segments_not_chains;
+  }
+  v.flips_remaining = report.deformation.remaining_flips;
+  std::tie(v.folded_edges, v.degenerate_faces) = internal::folded_and_degenerate(work, wvpm);
+  v.template_folded_edges = internal::folded_and_degenerate(tm, vpm).first;
+  for (auto w : vertices(work)) {
+    const auto& p = get(wvpm, w);
+    v.non_finite_coordinates += !(std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z()));
+  }
+  if (check_self_intersections && v.non_finite_coordinates == 0) {
+    v.self_intersection_checked = true;
+    v.self_intersects = CGAL::Polygon_mesh_processing::does_self_intersect(work);
+    v.template_self_intersects =
+        v.self_intersects && CGAL::Polygon_mesh_processing::does_self_intersect(tm, CGAL::parameters::vertex_point_map(vpm));
+  }
+  report.verify_seconds = internal::seconds_since(t);
+  report.vertices = num_vertices(work);
+  report.faces = num_faces(work);
+  report.minimum_angle_deg = internal::minimum_angle_degrees(work, wvpm);
+
+  // Commit: the result replaces the template, vertex i staying vertex i.
+  const Mesh_data result =
+      to_mesh_data(work, CGAL::parameters::edge_is_constrained_map(curve).face_patch_map(region));
+  auto ecm = get_parameter(np, CGAL::internal_np::edge_is_constrained);
+  auto fpm = get_parameter(np, CGAL::internal_np::face_patch);
+  if constexpr (!std::is_same_v<decltype(ecm), CGAL::internal_np::Param_not_found> &&
+                !std::is_same_v<decltype(fpm), CGAL::internal_np::Param_not_found>)
+    build_triangle_mesh(result, tm, CGAL::parameters::vertex_point_map(vpm).edge_is_constrained_map(ecm).face_patch_map(fpm));
+  else if constexpr (!std::is_same_v<decltype(ecm), CGAL::internal_np::Param_not_found>)
+    build_triangle_mesh(result, tm, CGAL::parameters::vertex_point_map(vpm).edge_is_constrained_map(ecm));
+  else if constexpr (!std::is_same_v<decltype(fpm), CGAL::internal_np::Param_not_found>)
+    build_triangle_mesh(result, tm, CGAL::parameters::vertex_point_map(vpm).face_patch_map(fpm));
+  else
+    build_triangle_mesh(result, tm, CGAL::parameters::vertex_point_map(vpm));
+  report.total_seconds = internal::seconds_since(t0);
+  return report;
+}
+
+}  // namespace meshfit
+
+#endif  // MESHFIT_FIT_H
