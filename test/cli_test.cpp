@@ -1,5 +1,6 @@
 // Runs the meshfit command as a user would and checks exit statuses and messages.
 #include "malformed_catalogue.h"
+#include <meshfit/correspondence.h>
 #include "test_helpers.h"
 
 #include <meshfit/curve_network.h>
@@ -64,18 +65,13 @@ TEST_CASE("cli: every malformed input gives one line with its location and exit 
   }
 }
 
-TEST_CASE("cli: usage errors exit with status 2 and stages not yet built say so", "[cli]") {
+TEST_CASE("cli: usage errors exit with status 2", "[cli]") {
   Temp_dir dir;
   CHECK(run(dir, "").status == 2);
   CHECK(run(dir, "frobnicate").status == 2);
   CHECK(run(dir, "check --template").status == 2);
   CHECK(run(dir, "check --template a.off --curves c.txt").status == 2);
   CHECK(run(dir, "check --template a.off --curves c.txt --correspondences p.txt --bogus").status == 2);
-  for (const char* stage : {"fit"}) {
-    const Run_result r = run(dir, std::string(stage) + " --template a.off --output o.obj");
-    CHECK(r.status == 2);
-    CHECK(r.err.find("not available yet") != std::string::npos);
-  }
   const Run_result missing = run(dir, "check --template " + q(dir.file("none.off")) + " --curves c --correspondences p");
   CHECK(missing.status == 1);
   CHECK(missing.err.find("cannot open") != std::string::npos);
@@ -269,5 +265,77 @@ TEST_CASE("cli: smooth holds the curves fixed and keeps regions and curve edges"
     const Run_result zero = run(dir, "smooth --quiet --iterations 0" + args);
     CHECK(zero.status == 0);
     CHECK(meshfit::read_mesh_data(dir.file("o.off")).points == before.points);
+  }
+}
+
+TEST_CASE("cli: fit runs the whole pipeline on the embedded example", "[cli][fit]") {
+  Temp_dir dir;
+  const std::string d = MESHFIT_EXAMPLE_DATA_DIR;
+  const std::string inputs = " --template " + q(d + "/template.off") + " --curves " + q(d + "/curves.polylines.txt") +
+                             " --correspondences " + q(d + "/pairs.txt");
+  SECTION("to PLY with a report: verified, regions and curve edges, template indices kept") {
+    const Run_result r = run(dir, "fit" + inputs + " --output " + q(dir.file("fit.ply")) + " --report " + q(dir.file("fit.json")));
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    CHECK(r.err.find("meshfit: deform: ") != std::string::npos);
+    CHECK(r.err.find("meshfit: partition: ") != std::string::npos);
+    CHECK(r.err.find("meshfit: smooth: ") != std::string::npos);
+    CHECK(r.err.find("meshfit: fit: verifying") != std::string::npos);
+    const meshfit::Mesh_data m = meshfit::read_mesh_data(dir.file("fit.ply"));
+    const meshfit::Mesh_data t = meshfit::read_mesh_data(d + "/template.off");
+    const std::string json = read_text(dir.file("fit.json"));
+    CHECK(json.find("\"verified\": true") != std::string::npos);
+    CHECK(json.find("\"regions\": 12") != std::string::npos);
+    CHECK(json.find("\"faces\": " + std::to_string(m.triangles.size())) != std::string::npos);
+    CHECK(m.points.size() >= t.points.size());
+    CHECK(m.curve_edges.size() >= 220);
+    REQUIRE(m.face_patch.size() == m.triangles.size());
+    CHECK(*std::max_element(m.face_patch.begin(), m.face_patch.end()) == 11);
+    // Output vertex i is template vertex i: each user pair's template vertex sits on its point.
+    const auto network = meshfit::read_curve_network(d + "/curves.polylines.txt");
+    for (const auto& c : meshfit::read_correspondences(d + "/pairs.txt", network))
+      CHECK(m.points[c.template_vertex] == network.point(c.network_vertex));
+  }
+  SECTION("to OBJ and OFF, quietly") {
+    CHECK(run(dir, "fit --quiet" + inputs + " --output " + q(dir.file("fit.obj"))).status == 0);
+    CHECK(read_text(dir.file("fit.obj")).find("g region_11") != std::string::npos);
+    const Run_result off = run(dir, "fit --quiet" + inputs + " --output " + q(dir.file("fit.off")));
+    CHECK(off.status == 0);
+    CHECK(off.err.empty());
+  }
+  SECTION("usage: no --coarse-only, options checked") {
+    CHECK(run(dir, "fit --coarse-only" + inputs + " --output " + q(dir.file("o.off"))).status == 2);
+    CHECK(run(dir, "fit" + inputs + " --output " + q(dir.file("o.off")) + " --step 3").status == 2);
+    CHECK(run(dir, "fit" + inputs).status == 2);
+  }
+  SECTION("the algorithm cannot complete: status 3, report written, no output") {
+    const Run_result r = run(dir, "fit --max-rounds 1" + inputs + " --output " + q(dir.file("f.ply")) + " --report " + q(dir.file("f.json")));
+    CHECK(r.status == 3);
+    CHECK(r.err.find("failed verification") != std::string::npos);
+    CHECK(r.err.find("flipped in the deformation") != std::string::npos);
+    CHECK_FALSE(std::filesystem::exists(dir.file("f.ply")));
+    CHECK(read_text(dir.file("f.json")).find("\"verified\": false") != std::string::npos);
+    const Run_result kept = run(dir, "fit --quiet --allow-defects --max-rounds 1" + inputs + " --output " + q(dir.file("k.ply")));
+    CHECK(kept.status == 0);
+    CHECK(std::filesystem::exists(dir.file("k.ply")));
+  }
+}
+
+TEST_CASE("cli: fit fed each malformed input exits 1 and writes nothing", "[cli][fit][malformed]") {
+  for (const Malformed_case& c : malformed_catalogue()) {
+    SECTION(c.name) {
+      Temp_dir dir;
+      const std::string bad = dir.write("bad" + c.extension, c.content);
+      const std::string t = c.kind == Input_kind::template_mesh ? bad : dir.write("t.off", valid_template_off());
+      const std::string cu = c.kind == Input_kind::curves ? bad : dir.write("c.polylines.txt", valid_curves());
+      const std::string p = c.kind == Input_kind::correspondences ? bad : dir.write("p.txt", valid_pairs());
+      const Run_result r = run(dir, "fit --template " + q(t) + " --curves " + q(cu) + " --correspondences " + q(p) +
+                                        " --output " + q(dir.file("out.ply")) + " --report " + q(dir.file("r.json")));
+      INFO(c.name << ": " << r.err);
+      CHECK(r.status == 1);
+      CHECK(r.err.find(bad) != std::string::npos);
+      CHECK_FALSE(std::filesystem::exists(dir.file("out.ply")));
+      CHECK_FALSE(std::filesystem::exists(dir.file("r.json")));
+    }
   }
 }

@@ -1,0 +1,108 @@
+#include <meshfit/fit.h>
+#include <meshfit/io.h>
+
+#include <CGAL/Surface_mesh.h>
+
+#include "test_helpers.h"
+
+using Mesh = CGAL::Surface_mesh<meshfit::Point_3>;
+
+namespace {
+
+struct Inputs {
+  Mesh tm;
+  meshfit::Curve_network network;
+  std::vector<meshfit::Correspondence> pairs;
+};
+
+Inputs example() {
+  Inputs in;
+  const std::string d = MESHFIT_EXAMPLE_DATA_DIR;
+  meshfit::read_triangle_mesh(d + "/template.off", in.tm);
+  in.network = meshfit::read_curve_network(d + "/curves.polylines.txt");
+  in.pairs = meshfit::read_correspondences(d + "/pairs.txt", in.network);
+  return in;
+}
+
+}  // namespace
+
+TEST_CASE("fit: the embedded example is fitted, partitioned into 12 regions and verified", "[fit][example]") {
+  Inputs in = example();
+  const std::size_t template_vertices = in.tm.number_of_vertices();
+  auto curve = in.tm.add_property_map<Mesh::Edge_index, bool>("e:curve", false).first;
+  auto region = in.tm.add_property_map<Mesh::Face_index, int>("f:region", -1).first;
+  std::vector<std::string> stages;
+  const meshfit::Fit_report r = meshfit::fit_template_to_curves(
+      in.tm, in.network, in.pairs,
+      meshfit::parameters::progress(
+          [&](const meshfit::Progress_step& s) {
+            if (stages.empty() || stages.back() != s.stage) stages.push_back(s.stage);
+            return true;
+          },
+          CGAL::parameters::edge_is_constrained_map(curve).face_patch_map(region)));
+  INFO("problems: " << r.verification.problems().size());
+  CHECK(r.verification.passed());
+  CHECK(stages == std::vector<std::string>{"deform", "partition", "smooth", "fit"});
+  CHECK(r.partition.regions == 12);
+  CHECK(r.partition.not_embedded.empty());
+  CHECK(r.verification.folded_edges == 0);
+  CHECK(r.faces == in.tm.number_of_faces());
+  CHECK(in.tm.number_of_vertices() == r.vertices);
+  CHECK(in.tm.number_of_vertices() >= template_vertices);
+  // The maps were filled on the result: 12 region labels, curve edges along every segment.
+  std::set<int> labels;
+  for (auto f : in.tm.faces()) labels.insert(region[f]);
+  CHECK(labels.size() == 12);
+  CHECK(*labels.begin() == 0);
+  std::size_t curve_edges = 0;
+  for (auto e : in.tm.edges()) curve_edges += curve[e];
+  CHECK(curve_edges >= in.network.number_of_segments());
+  // Vertex i is template vertex i: the user's pairs sit on their network vertices.
+  for (const auto& c : in.pairs)
+    CHECK(in.tm.point(Mesh::Vertex_index(static_cast<Mesh::size_type>(c.template_vertex))) ==
+          in.network.point(c.network_vertex));
+  // Every network vertex is a mesh vertex, exactly.
+  for (std::size_t v = 0; v < in.network.number_of_vertices(); ++v)
+    CHECK(in.tm.point(Mesh::Vertex_index(static_cast<Mesh::size_type>(r.mesh_vertex_of_network_vertex[v]))) ==
+          in.network.point(v));
+}
+
+TEST_CASE("fit: cancelling through the progress callback leaves the template untouched", "[fit]") {
+  for (const char* stop_at : {"deform", "partition", "smooth", "fit"}) {
+    INFO("cancelled in " << stop_at);
+    Inputs in = example();
+    const meshfit::Mesh_data before = meshfit::to_mesh_data(in.tm);
+    bool thrown = false;
+    try {
+      meshfit::fit_template_to_curves(
+          in.tm, in.network, in.pairs,
+          meshfit::parameters::progress([&](const meshfit::Progress_step& s) { return s.stage != stop_at; }));
+    } catch (const meshfit::Algorithm_failure& e) {
+      thrown = std::string(e.what()).find("cancelled") != std::string::npos;
+    }
+    CHECK(thrown);
+    const meshfit::Mesh_data after = meshfit::to_mesh_data(in.tm);
+    CHECK(after.points == before.points);
+    CHECK(after.triangles == before.triangles);
+  }
+}
+
+TEST_CASE("fit: pairs that mirror the template fail in stage 1 and leave it untouched", "[fit]") {
+  Inputs in = example();
+  const meshfit::Mesh_data before = meshfit::to_mesh_data(in.tm);
+  // Mirror the network's x: the same template vertices now go to mirrored points.
+  std::vector<meshfit::Curve_network::Polyline> mirrored;
+  for (const auto& pl : in.network.polylines()) {
+    meshfit::Curve_network::Polyline m;
+    for (std::size_t v : pl) m.emplace_back(-in.network.point(v).x(), in.network.point(v).y(), in.network.point(v).z());
+    mirrored.push_back(m);
+  }
+  const meshfit::Curve_network net(mirrored);
+  std::vector<meshfit::Correspondence> pairs = in.pairs;
+  for (auto& c : pairs) {
+    const meshfit::Point_3& p = in.network.point(c.network_vertex);
+    c.network_vertex = *net.find_vertex(meshfit::Point_3(-p.x(), p.y(), p.z()));
+  }
+  CHECK_THROWS_AS(meshfit::fit_template_to_curves(in.tm, net, pairs), meshfit::Algorithm_failure);
+  CHECK(meshfit::to_mesh_data(in.tm).points == before.points);
+}
