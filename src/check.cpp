@@ -89,7 +89,8 @@ Check_summary check_inputs(const std::string& template_path, const std::string& 
   s.mesh = summarize_mesh(mesh);
   const Curve_network network = read_curve_network(curves_path, relative_merge_tolerance);
   const auto pairs = read_correspondences(correspondences_path, network);
-  validate_correspondences(pairs, mesh.points, network);
+  // As deform and fit: coplanar template vertices are fine (the RBF adds auxiliary pairs).
+  validate_correspondences(pairs, mesh.points, network, true);
 
   s.network_vertices = network.number_of_vertices();
   s.network_segments = network.number_of_segments();

@@ -430,10 +430,33 @@ void run_flow(Smoothing_arrays& m, const Flow_settings& s, Smoothing_report& rep
       const V3 ni = load(initial_normal.data(), f);
       const double di = dot(ni, n1);
       const double li = dot(ni, ni);
-      if (!(li > 0) || (di > 0 && di * di > 1e-6 * li * l1)) return false;
-      const V3 ia = load(oriented.data(), tri[0]), ib = load(oriented.data(), tri[1]), ic = load(oriented.data(), tri[2]);
-      const Triangle_points initial{Point_3(ia.x, ia.y, ia.z), Point_3(ib.x, ib.y, ib.z), Point_3(ic.x, ic.y, ic.z)};
-      return orientation_flip_test(initial, after) != Flip_state::kept;
+      if (li > 0 && !(di > 0 && di * di > 1e-6 * li * l1)) {
+        const V3 ia = load(oriented.data(), tri[0]), ib = load(oriented.data(), tri[1]), ic = load(oriented.data(), tri[2]);
+        const Triangle_points initial{Point_3(ia.x, ia.y, ia.z), Point_3(ib.x, ib.y, ib.z), Point_3(ic.x, ic.y, ic.z)};
+        if (orientation_flip_test(initial, after) != Flip_state::kept) return true;
+      }
+      // Nor may it fold over a neighbour: two faces sharing an edge that turn more than 90 degrees
+      // apart, when they did not at the call (each face alone can turn less than 90 degrees and
+      // the pair still fold; seen on CGAL's elephant). Filtered, then exact in the face's plane,
+      // the test fit_template_to_curves verifies with.
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t g = t.face_adj[f][std::size_t(k)];
+        if (g == no_face) continue;
+        const auto& gt = m.triangles[g];
+        const V3 ga = load(next.data(), gt[0]), gb = load(next.data(), gt[1]), gc = load(next.data(), gt[2]);
+        const V3 ng = cross(gb - ga, gc - ga);
+        const double dg = dot(n1, ng);
+        if (dg > 0 && dg * dg > 1e-6 * l1 * dot(ng, ng)) continue;
+        const Triangle_points other{Point_3(ga.x, ga.y, ga.z), Point_3(gb.x, gb.y, gb.z), Point_3(gc.x, gc.y, gc.z)};
+        if (orientation_in_plane(after, other[0], other[1], other[2]) == CGAL::POSITIVE) continue;
+        const V3 ia = load(oriented.data(), tri[0]), ib = load(oriented.data(), tri[1]), ic = load(oriented.data(), tri[2]);
+        const V3 ja = load(oriented.data(), gt[0]), jb = load(oriented.data(), gt[1]), jc = load(oriented.data(), gt[2]);
+        const Triangle_points initial{Point_3(ia.x, ia.y, ia.z), Point_3(ib.x, ib.y, ib.z), Point_3(ic.x, ic.y, ic.z)};
+        if (orientation_in_plane(initial, Point_3(ja.x, ja.y, ja.z), Point_3(jb.x, jb.y, jb.z),
+                                 Point_3(jc.x, jc.y, jc.z)) == CGAL::POSITIVE)
+          return true;  // a new fold
+      }
+      return false;
     };
 #pragma omp parallel for schedule(static) if (parallel)
     for (std::ptrdiff_t f = 0; f < snf; ++f) flipped[std::size_t(f)] = judge(std::size_t(f));
