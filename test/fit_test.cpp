@@ -106,3 +106,46 @@ TEST_CASE("fit: pairs that mirror the template fail in stage 1 and leave it unto
   CHECK_THROWS_AS(meshfit::fit_template_to_curves(in.tm, net, pairs), meshfit::Algorithm_failure);
   CHECK(meshfit::to_mesh_data(in.tm).points == before.points);
 }
+
+namespace {
+
+// Fits and returns the report; the result must pass verification.
+meshfit::Fit_report fit_and_verify(const std::string& template_path, const std::string& curves,
+                                   const std::string& pairs_path) {
+  Mesh tm;
+  meshfit::read_triangle_mesh(template_path, tm);
+  const auto network = meshfit::read_curve_network(curves);
+  const auto pairs = meshfit::read_correspondences(pairs_path, network);
+  const meshfit::Fit_report r = meshfit::fit_template_to_curves(tm, network, pairs);
+  for (const std::string& p : r.verification.problems()) INFO(p);
+  CHECK(r.verification.passed());
+  CHECK(r.partition.not_embedded.empty());
+  CHECK(r.verification.segments_not_chains == 0);
+  CHECK(r.verification.folded_edges <= r.verification.template_folded_edges);
+  CHECK(r.faces == tm.number_of_faces());
+  return r;
+}
+
+}  // namespace
+
+TEST_CASE("fit: the same sphere template fitted to a second network (peanut)", "[fit][example]") {
+  const std::string d = MESHFIT_EXAMPLE_DATA_DIR;
+  const auto r = fit_and_verify(d + "/template.off", d + "/curves-2.polylines.txt", d + "/pairs-2.txt");
+  CHECK(r.partition.regions == 16);
+}
+
+TEST_CASE("fit: an open template fitted to a network that includes its boundary", "[fit][example][open]") {
+  const std::string d = MESHFIT_EXAMPLE_DATA_DIR;
+  const auto r = fit_and_verify(d + "/sheet/template.off", d + "/sheet/curves.polylines.txt", d + "/sheet/pairs.txt");
+  CHECK(r.partition.regions == 4);
+}
+
+#ifdef MESHFIT_CGAL_DATA_DIR
+TEST_CASE("fit: CGAL's elephant fitted to curves from a deformed copy of itself", "[fit][real]") {
+  const std::string d = MESHFIT_EXAMPLE_DATA_DIR;
+  const auto r = fit_and_verify(MESHFIT_CGAL_DATA_DIR "/elephant.off", d + "/elephant/curves.polylines.txt",
+                                d + "/elephant/pairs.txt");
+  CHECK(r.partition.regions == 6);
+  CHECK(r.deformation.remaining_flips == 0);
+}
+#endif
