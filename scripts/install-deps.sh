@@ -4,7 +4,9 @@
 set -euo pipefail
 
 packages=(g++ cmake make libcgal-dev libeigen3-dev libboost-dev libgmp-dev libmpfr-dev catch2
-          libcgal-demo libopenblas-dev liblapacke-dev)
+          libcgal-demo libopenblas-dev liblapacke-dev
+          # pictures (scripts/render.sh and its test): f3d renders under a virtual X server
+          f3d xvfb xauth libgl1-mesa-dri python3)
 
 missing=()
 for p in "${packages[@]}"; do
