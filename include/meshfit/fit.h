@@ -197,13 +197,21 @@ Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& network
   report.mesh_vertex_of_network_vertex = report.partition.mesh_vertex_of_network_vertex;
 
   t = std::chrono::steady_clock::now();
+  // Network vertices stay where they are even when a segment of theirs is not a chain of edges.
+  auto pinned = get(CGAL::dynamic_vertex_property_t<bool>(), work);
+  {
+    std::vector<bool> is_network(num_vertices(work), false);
+    for (std::size_t k : report.mesh_vertex_of_network_vertex) is_network[k] = true;
+    std::size_t i = 0;
+    for (auto w : vertices(work)) put(pinned, w, bool(is_network[i++]));
+  }
   if (mc_iterations + lap_iterations > 0)
     report.smoothing = smooth_mesh(
         work, parameters::mean_curvature_iterations(
                   mc_iterations, parameters::laplacian_iterations(
                                      lap_iterations, parameters::step_size(
                                                          step, parameters::progress(
-                                                                   progress, CGAL::parameters::edge_is_constrained_map(curve))))));
+                                                                   progress, CGAL::parameters::edge_is_constrained_map(curve).vertex_is_constrained_map(pinned))))));
   report.smooth_seconds = internal::seconds_since(t);
 
   // Verification.
