@@ -1,9 +1,10 @@
-// Writes the inputs of the end-to-end benchmark into a directory: a template of at least <faces>
-// faces (an icosphere, 20 × 4^k faces, laid on a slightly larger copy of the ellipsoid below: the
-// benchmark measures the cost of the stages, so the template is already near the curves), a
-// network of about
-// <network_vertices> vertices on the ellipsoid x²/4 + y²/0.64 + z²/0.49 = 1 (4 parallels and 8
-// meridian arcs between them, sharing their crossings), and pairs at the crossings.
+// Writes the inputs of the end-to-end benchmark into a directory:
+//   - a template of at least <faces> faces: an icosphere (20 × 4^k faces) laid on a slightly
+//     larger copy of the ellipsoid below (the benchmark measures the cost of the stages, so the
+//     template starts near the curves);
+//   - a network of about <network_vertices> vertices on the ellipsoid x²/4 + y²/0.64 + z²/0.49 = 1:
+//     8 parallels and 16 meridian arcs between them, sharing their crossings;
+//   - pairs: every crossing with its nearest template vertex.
 //   fit_bench_data <faces> <network_vertices> <output_dir>
 #include <meshfit/curve_network.h>
 #include <meshfit/io.h>
@@ -66,11 +67,13 @@ int main(int argc, char** argv) {
   meshfit::write_triangle_mesh(dir + "/template.off", tm);
 
   // Network: a (theta, phi) grid of curves on the band |phi| <= 3pi/8 (the poles, where
-  // meridians would crowd, are left out): 4 parallels (closed) and 8 meridian arcs from the lowest
+  // meridians would crowd, are left out): 8 parallels (closed) and 16 meridian arcs from the lowest
   // parallel to the highest, sharing the crossings. S samples along a parallel, T along an arc.
-  const int parallels = 4, meridians = 8;
-  const int S = std::max(16, static_cast<int>(wanted * 2 / 3 / parallels) / meridians * meridians);
-  const int T = std::max(6, static_cast<int>(wanted / 3 / meridians) / (parallels - 1) * (parallels - 1));
+  // (Spread over many curves, the network is nowhere much denser than the template.)
+  const int parallels = 8, meridians = 16;
+  auto multiple = [](double x, int m) { return std::max(m, static_cast<int>(std::lround(x / m)) * m); };
+  const int S = multiple(wanted / 2.0 / parallels, meridians);
+  const int T = multiple(wanted / 2.0 / meridians, parallels - 1);
   auto at = [](double theta, double phi) {
     return Point(2 * std::cos(phi) * std::cos(theta), 0.8 * std::cos(phi) * std::sin(theta), 0.7 * std::sin(phi));
   };

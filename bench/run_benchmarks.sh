@@ -5,6 +5,8 @@
 #   - closest-point correspondences (k-d tree) against brute force;
 #   - partitioning: segments per second and time per face crossed, up to a 1e6-face mesh with a
 #     20 000-segment network (no peer: the issue sets a goal of 1 µs per face crossed);
+#   - end to end: meshfit fit on 5e3-, 8e4- and 1.3e6-face templates with 500-, 2000- and
+#     20 000-vertex networks, per stage, with peak memory and growth between sizes;
 #   - smoothing: meshfit's modified Laplacian step and combined method against CGAL's
 #     tangential_relaxation and smooth_shape on the same noisy 1e5- and 1e6-vertex spheres.
 # Installs what it needs (Debian's python3-scipy on OpenBLAS). Usage: bench/run_benchmarks.sh [build-dir]
@@ -61,6 +63,36 @@ for spec in "50000 30 100 3 hilbert" "500000 100 200 3 hilbert" "500000 100 200 
   line=$("$build/bench/partition_bench" $spec)
   field() { echo "$line" | tr ' ' '\n' | grep "^$1=" | cut -d= -f2; }
   echo "| $(field faces) | ${spec##* } | $(field segments) | $(field walk) | $(field existing) | $(field fallback) | $(field not_embedded) | $(field faces_crossed) | $(field walk_s) | $(field total_s) | $(field segments_per_s) | $(field ns_per_face_crossed) |"
+done
+echo
+echo "End to end (meshfit fit): icosphere template near an ellipsoid, network of parallels and meridian arcs; peak memory of the process"
+echo "| template faces | network vertices | deform s | partition s | smooth s | verify s | total s | peak MB | total growth vs previous row (time ratio / face ratio) | verified |"
+echo "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"
+prev_faces=""; prev_total=""
+for spec in "5000 500" "80000 2000" "1300000 20000"; do
+  set -- $spec
+  "$build/bench/fit_bench_data" "$1" "$2" "$data" > "$data/gen.txt"
+  peak_kb=$($py -c 'import resource, subprocess, sys
+subprocess.run(sys.argv[1:], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+print(resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)' "$build/meshfit" fit --allow-defects --template "$data/template.off" \
+    --curves "$data/curves.polylines.txt" --correspondences "$data/pairs.txt" --output "$data/out.ply" --report "$data/r.json")
+  row=$($py - "$data/r.json" "$data/gen.txt" "$peak_kb" "$prev_faces" "$prev_total" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))
+gen = dict(kv.split("=") for kv in open(sys.argv[2]).read().split())
+t = r["timings_s"]; faces = int(gen["template_faces"])
+growth = ""
+if sys.argv[4]:
+    growth = "%.2f / %.1f" % (t["total"] / float(sys.argv[5]), faces / float(sys.argv[4]))
+print("| %d | %s | %.3f | %.3f | %.3f | %.3f | %.3f | %.0f | %s | %s |" % (faces, gen["network_vertices"], t["deform"],
+      t["partition"], t["smooth"], t["verify"], t["total"], int(sys.argv[3]) / 1024, growth,
+      "yes" if r["verified"] else "no: " + "; ".join(r["verification"]["problems"])))
+print(faces, t["total"])
+PY
+)
+  echo "$row" | head -1
+  read -r prev_faces prev_total <<< "$(echo "$row" | tail -1)"
+  rm -f "$data"/*.off "$data"/*.ply "$data"/*.txt "$data"/*.json
 done
 echo
 echo "Smoothing (stage 3), noisy geodesic sphere, $(nproc) threads: time per vertex and iteration, volume change, triangle quality"
