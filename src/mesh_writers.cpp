@@ -131,10 +131,16 @@ void write_obj(std::ostream& os, const Mesh_data& mesh) {
   Number_writer w(os);
   w << "# written by meshfit: faces grouped by region (g region_<k>), curve edges as l\n";
   for (const Point_3& p : mesh.points) w << "v " << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
-  // Face order is kept: a group line is written wherever the region changes.
+  // One group per region, in increasing region order (faces of a region keep their order), as
+  // DESIGN.md fixes; so the faces of an OBJ come back grouped, not in the mesh's face order.
+  std::vector<std::size_t> order(mesh.triangles.size());
+  for (std::size_t f = 0; f < order.size(); ++f) order[f] = f;
+  if (!mesh.face_patch.empty())
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t a, std::size_t b) { return mesh.face_patch[a] < mesh.face_patch[b]; });
   bool first = true;
   int current = 0;
-  for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
+  for (std::size_t f : order) {
     if (!mesh.face_patch.empty() && (first || mesh.face_patch[f] != current)) {
       current = mesh.face_patch[f];
       if (current >= 0) w << "g region_" << current << '\n';

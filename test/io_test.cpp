@@ -213,7 +213,22 @@ TEST_CASE("io: write then read gives the same mesh, regions and curve edges", "[
       if (std::string(name) == "m_bin.ply") o.ply_encoding = meshfit::Ply_encoding::binary_little_endian;
       const std::string path = dir.file(name);
       meshfit::write_mesh_data(path, m, o);
-      require_same(meshfit::read_mesh_data(path), m);
+      Mesh_data back = meshfit::read_mesh_data(path);
+      if (std::string(name) == "m.obj") {
+        // OBJ groups the faces by region: the same faces with the same regions, reordered.
+        auto by_region = [](Mesh_data d) {
+          std::vector<std::pair<int, std::array<std::size_t, 3>>> faces;
+          for (std::size_t f = 0; f < d.triangles.size(); ++f) faces.emplace_back(d.face_patch[f], d.triangles[f]);
+          std::stable_sort(faces.begin(), faces.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+          for (std::size_t f = 0; f < faces.size(); ++f) d.face_patch[f] = faces[f].first, d.triangles[f] = faces[f].second;
+          return d;
+        };
+        CHECK(std::is_sorted(back.face_patch.begin(), back.face_patch.end()));
+        back = by_region(back);
+        require_same(back, by_region(m));
+      } else {
+        require_same(back, m);
+      }
     }
   }
   SECTION("off keeps geometry only") {
