@@ -28,41 +28,10 @@ NT plane_orientation_det(const Triangle_points& t, const Point_3& a, const Point
   return n0 * w0 + n1 * w1 + n2 * w2;
 }
 
-// The same in double with a bound on its rounding error (a semi-static filter, as CGAL's own
-// predicates have): every term is a product of four differences of inputs, and the value passes
-// through at most 7 roundings after the differences, so |error| <= 8 u M (1 + 8 u), with M the
-// same expression on absolute values and u = 2^-53. 1e-14 M is a safe upper bound. Returns ZERO
-// when the filter cannot decide (and for underflow-prone magnitudes).
-CGAL::Sign filtered_orientation(const Triangle_points& t, const Point_3& a, const Point_3& b, const Point_3& c) {
-  double e1[3], e2[3], u[3], v[3];
-  const Point_3 &p1 = t[0], &p2 = t[1], &p3 = t[2];
-  for (int k = 0; k < 3; ++k) {
-    e1[k] = p2[k] - p1[k];
-    e2[k] = p3[k] - p1[k];
-    u[k] = b[k] - a[k];
-    v[k] = c[k] - a[k];
-  }
-  const double n0 = e1[1] * e2[2] - e1[2] * e2[1], n1 = e1[2] * e2[0] - e1[0] * e2[2],
-               n2 = e1[0] * e2[1] - e1[1] * e2[0];
-  const double w0 = u[1] * v[2] - u[2] * v[1], w1 = u[2] * v[0] - u[0] * v[2], w2 = u[0] * v[1] - u[1] * v[0];
-  const double d = n0 * w0 + n1 * w1 + n2 * w2;
-  const double m0 = std::abs(e1[1] * e2[2]) + std::abs(e1[2] * e2[1]), m1 = std::abs(e1[2] * e2[0]) + std::abs(e1[0] * e2[2]),
-               m2 = std::abs(e1[0] * e2[1]) + std::abs(e1[1] * e2[0]);
-  const double x0 = std::abs(u[1] * v[2]) + std::abs(u[2] * v[1]), x1 = std::abs(u[2] * v[0]) + std::abs(u[0] * v[2]),
-               x2 = std::abs(u[0] * v[1]) + std::abs(u[1] * v[0]);
-  const double M = m0 * x0 + m1 * x1 + m2 * x2;
-  if (!(M > 1e-250 && M < 1e250)) return CGAL::ZERO;  // also NaN
-  const double bound = 1e-14 * M;
-  if (d > bound) return CGAL::POSITIVE;
-  if (d < -bound) return CGAL::NEGATIVE;
-  return CGAL::ZERO;
-}
-
 }  // namespace
 
-CGAL::Sign orientation_in_plane(const Triangle_points& plane, const Point_3& a, const Point_3& b,
-                                const Point_3& c) {
-  if (const CGAL::Sign s = filtered_orientation(plane, a, b, c); s != CGAL::ZERO) return s;
+CGAL::Sign internal::orientation_in_plane_unfiltered(const Triangle_points& plane, const Point_3& a,
+                                                     const Point_3& b, const Point_3& c) {
   {
     CGAL::Protect_FPU_rounding<true> protect;
     const CGAL::Interval_nt<false> d = plane_orientation_det<CGAL::Interval_nt<false>>(plane, a, b, c);

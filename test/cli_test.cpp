@@ -29,6 +29,15 @@ Run_result run(const Temp_dir& dir, const std::string& args) {
 
 std::string q(const std::string& s) { return "'" + s + "'"; }
 
+// The --template, --curves and --correspondences options of a run where the malformed case's
+// file `bad` replaces the input of its kind and the others are valid.
+std::string inputs_with(const Temp_dir& dir, const Malformed_case& c, const std::string& bad) {
+  const std::string t = c.kind == Input_kind::template_mesh ? bad : dir.write("t.off", valid_template_off());
+  const std::string cu = c.kind == Input_kind::curves ? bad : dir.write("c.polylines.txt", valid_curves());
+  const std::string p = c.kind == Input_kind::correspondences ? bad : dir.write("p.txt", valid_pairs());
+  return " --template " + q(t) + " --curves " + q(cu) + " --correspondences " + q(p);
+}
+
 }  // namespace
 
 TEST_CASE("cli: check on the embedded example succeeds and prints the summary", "[cli]") {
@@ -49,10 +58,7 @@ TEST_CASE("cli: every malformed input gives one line with its location and exit 
     SECTION(c.name) {
       Temp_dir dir;
       const std::string bad = dir.write("bad" + c.extension, c.content);
-      const std::string t = c.kind == Input_kind::template_mesh ? bad : dir.write("t.off", valid_template_off());
-      const std::string cu = c.kind == Input_kind::curves ? bad : dir.write("c.polylines.txt", valid_curves());
-      const std::string p = c.kind == Input_kind::correspondences ? bad : dir.write("p.txt", valid_pairs());
-      const Run_result r = run(dir, "check --template " + q(t) + " --curves " + q(cu) + " --correspondences " + q(p));
+      const Run_result r = run(dir, "check" + inputs_with(dir, c, bad));
       INFO(c.name << ": " << r.err);
       CHECK(r.status == 1);
       CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
@@ -326,11 +332,8 @@ TEST_CASE("cli: fit fed each malformed input exits 1 and writes nothing", "[cli]
     SECTION(c.name) {
       Temp_dir dir;
       const std::string bad = dir.write("bad" + c.extension, c.content);
-      const std::string t = c.kind == Input_kind::template_mesh ? bad : dir.write("t.off", valid_template_off());
-      const std::string cu = c.kind == Input_kind::curves ? bad : dir.write("c.polylines.txt", valid_curves());
-      const std::string p = c.kind == Input_kind::correspondences ? bad : dir.write("p.txt", valid_pairs());
-      const Run_result r = run(dir, "fit --template " + q(t) + " --curves " + q(cu) + " --correspondences " + q(p) +
-                                        " --output " + q(dir.file("out.ply")) + " --report " + q(dir.file("r.json")));
+      const Run_result r = run(dir, "fit" + inputs_with(dir, c, bad) + " --output " + q(dir.file("out.ply")) +
+                                        " --report " + q(dir.file("r.json")));
       INFO(c.name << ": " << r.err);
       CHECK(r.status == 1);
       CHECK(r.err.find(bad) != std::string::npos);

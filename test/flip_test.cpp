@@ -122,7 +122,7 @@ TEST_CASE("flip: orientation in a plane is exact near degeneracy (filter and exa
     const CGAL::Sign want = exact(plane, a, b, c);
     INFO(std::setprecision(17) << plane[0] << " | " << plane[1] << " | " << plane[2] << " | " << a << " | " << b << " | " << c);
     REQUIRE(meshfit::orientation_in_plane(plane, a, b, c) == want);
-    REQUIRE(meshfit::Plane_orientation(plane)(a, b, c) == want);
+    REQUIRE(meshfit::internal::orientation_in_plane_unfiltered(plane, a, b, c) == want);
     (want == CGAL::ZERO ? zero : want == CGAL::POSITIVE ? positive : negative)++;
   }
   // Also far from degeneracy, where the filter decides alone.
@@ -131,7 +131,7 @@ TEST_CASE("flip: orientation in a plane is exact near degeneracy (filter and exa
                                 Point_3(u(rng), u(rng), u(rng))};
     const Point_3 a(u(rng), u(rng), u(rng)), b(u(rng), u(rng), u(rng)), c(u(rng), u(rng), u(rng));
     REQUIRE(meshfit::orientation_in_plane(plane, a, b, c) == exact(plane, a, b, c));
-    REQUIRE(meshfit::Plane_orientation(plane)(a, b, c) == exact(plane, a, b, c));
+    REQUIRE(meshfit::internal::orientation_in_plane_unfiltered(plane, a, b, c) == exact(plane, a, b, c));
   }
   CHECK(positive > 1000);
   CHECK(negative > 1000);

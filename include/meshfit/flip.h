@@ -33,13 +33,15 @@ struct Flip_count {
   }
 };
 
-/// Exact sign of the orientation in the plane of `plane` (before the motion) of a b c projected
-/// onto that plane: POSITIVE when a b c turn as `plane` does. ZERO also when `plane` is degenerate.
-CGAL::Sign orientation_in_plane(const Triangle_points& plane, const Point_3& a, const Point_3& b,
-                                const Point_3& c);
+namespace internal {
+/// orientation_in_plane without the floating-point filter: interval arithmetic, then exact.
+CGAL::Sign orientation_in_plane_unfiltered(const Triangle_points& plane, const Point_3& a, const Point_3& b,
+                                           const Point_3& c);
+}  // namespace internal
 
-/// orientation_in_plane for many triangles in one plane: the plane's normal is computed once and
-/// the floating-point filter is inline; undecided cases go to orientation_in_plane (exact).
+/// Exact orientation in the plane of a triangle, for many triangles in one plane: the plane's
+/// normal is computed once, a floating-point filter decides almost every case, and the rest go to
+/// interval then exact arithmetic (see orientation_in_plane).
 class Plane_orientation {
  public:
   Plane_orientation() = default;
@@ -53,8 +55,11 @@ class Plane_orientation {
     m_m[2] = std::abs(e1.x() * e2.y()) + std::abs(e1.y() * e2.x());
   }
   const Triangle_points& plane() const { return m_plane; }
-  /// Same as orientation_in_plane(plane(), a, b, c). The filter is the one of orientation_in_plane
-  /// (same operations in the same order, so the same error bound, 1e-14 of the magnitude).
+  /// orientation_in_plane(plane(), a, b, c). The filter: the value n · ((b − a) × (c − a)) in
+  /// double, every term a product of four differences of inputs passed through at most 7
+  /// roundings after the differences, so its error is below 8u·M(1 + 8u) with M the same
+  /// expression on absolute values and u = 2^-53; 1e-14·M is a safe bound. Magnitudes near
+  /// underflow or overflow, and values within the bound, go to the exact evaluation.
   CGAL::Sign operator()(const Point_3& a, const Point_3& b, const Point_3& c) const {
     const double u0 = b.x() - a.x(), u1 = b.y() - a.y(), u2 = b.z() - a.z();
     const double v0 = c.x() - a.x(), v1 = c.y() - a.y(), v2 = c.z() - a.z();
@@ -65,13 +70,20 @@ class Plane_orientation {
       if (d > 1e-14 * M) return CGAL::POSITIVE;
       if (d < -1e-14 * M) return CGAL::NEGATIVE;
     }
-    return orientation_in_plane(m_plane, a, b, c);
+    return internal::orientation_in_plane_unfiltered(m_plane, a, b, c);
   }
 
  private:
   Triangle_points m_plane;
   double m_n[3] = {0, 0, 0}, m_m[3] = {0, 0, 0};
 };
+
+/// Exact sign of the orientation in the plane of `plane` (before the motion) of a b c projected
+/// onto that plane: POSITIVE when a b c turn as `plane` does. ZERO also when `plane` is degenerate.
+inline CGAL::Sign orientation_in_plane(const Triangle_points& plane, const Point_3& a, const Point_3& b,
+                                       const Point_3& c) {
+  return Plane_orientation(plane)(a, b, c);
+}
 
 /// The flip counter (thesis §2.3.1.2): for each vertex in turn, does its motion t_i cross the line
 /// of the opposite edge d_i in Π; an odd count means the face flipped. The thesis tests all three
