@@ -29,59 +29,23 @@
 #include <utility>
 #include <vector>
 
+#include "example_data_common.h"
+
 namespace {
 
-using Vec = std::array<double, 3>;
+using namespace example_data;
 
-Vec operator+(const Vec& p, const Vec& q) { return {p[0] + q[0], p[1] + q[1], p[2] + q[2]}; }
-Vec operator-(const Vec& p, const Vec& q) { return {p[0] - q[0], p[1] - q[1], p[2] - q[2]}; }
-Vec operator*(double s, const Vec& p) { return {s * p[0], s * p[1], s * p[2]}; }
-double dot(const Vec& p, const Vec& q) { return p[0] * q[0] + p[1] * q[1] + p[2] * q[2]; }
 Vec cross(const Vec& p, const Vec& q) {
   return {p[1] * q[2] - p[2] * q[1], p[2] * q[0] - p[0] * q[2], p[0] * q[1] - p[1] * q[0]};
 }
-double norm(const Vec& p) { return std::sqrt(dot(p, p)); }
-Vec normalized(const Vec& p) { return (1.0 / norm(p)) * p; }
 Vec times(const Vec& p, const Vec& q) { return {p[0] * q[0], p[1] * q[1], p[2] * q[2]}; }
 Vec divided(const Vec& p, const Vec& q) { return {p[0] / q[0], p[1] / q[1], p[2] / q[2]}; }
 
 // Semi-axes of the target ellipsoid (length along x, width along y, height along z).
 const Vec kAxes{2.0, 0.8, 0.7};
 constexpr std::size_t kPairCount = 8;
-constexpr double kPi = 3.14159265358979323846;
-
-void require(bool ok, const std::string& what) {
-  if (!ok) throw std::runtime_error(what);
-}
-
-// %.17g round-trips every double; -0 is printed as 0 so equal points always print equally.
-std::string fmt(double v) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.17g", v == 0.0 ? 0.0 : v);
-  require(std::strtod(buf, nullptr) == v, "coordinate does not round-trip through text");
-  return buf;
-}
-std::string fmt(const Vec& p) { return fmt(p[0]) + " " + fmt(p[1]) + " " + fmt(p[2]); }
-
-// Writing through a temporary file means an interrupted run never leaves a half-written file.
-void write_file(const std::filesystem::path& path, const std::string& text) {
-  std::filesystem::path tmp = path;
-  tmp += ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out << text;
-    out.flush();
-    require(static_cast<bool>(out), "cannot write " + tmp.string());
-  }
-  std::filesystem::rename(tmp, path);
-}
 
 // ---- template mesh ------------------------------------------------------------------------------
-
-struct Mesh {
-  std::vector<Vec> vertices;
-  std::vector<std::array<int, 3>> faces;
-};
 
 Mesh make_icosphere(int subdivisions) {
   const double t = (1.0 + std::sqrt(5.0)) / 2.0;
