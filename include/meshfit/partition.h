@@ -3,25 +3,30 @@
 // Every network vertex is a mesh vertex (after stage 1). Each curve segment is made a chain of
 // mesh edges:
 //   1. a segment that is already an edge is kept;
-//   2. otherwise its projected path is walked (surface_walk.h) and the crossed faces, the
-//      clear-out region of §3.2, are re-triangulated with the segment as an edge. The region is
-//      re-triangulated by edge flips (the constrained-edge insertion of Sloan, 1993): an edge the
-//      segment crosses is flipped when both new triangles keep the orientation of both triangles
-//      they replace (four exact orientation tests in the planes of the old triangles), until no
-//      edge crosses. A flip replaces two triangles of the region by two triangles of the same
-//      quadrilateral, so the region's faces and vertices stay the same in number, and each step
-//      is checked, so no face of the result is flipped or degenerate. The thesis instead refills
-//      the emptied region ear by ear, smallest angle first; flips reach the same kind of
-//      triangulation with an exact check at every step, and the mesh is valid between steps, so
-//      a failure is undone exactly by flipping back;
-//   3. where the walk fails (concave parts, boundaries, a walk leaving the mesh) or the flips
-//      cannot remove every crossing, the fallback of §3.2 (fig. 3.6): the shortest edge path
-//      between the two vertices (Dijkstra) whose inner vertices are moved onto the segment. A
-//      move that would fold a face (exact flip counter) is refused, and the segment is reported
-//      as not embedded, with the mesh left as it was.
+//   2. otherwise its projected path is walked (surface_walk.h: one cutting plane per segment,
+//      through its ends and containing their mean normal N) and the crossed faces, the clear-out
+//      region of §3.2, are re-triangulated with the segment as an edge, by edge flips: Sloan's
+//      constrained-edge insertion (1993) in the view along N, where the region is a planar
+//      triangulated polygon (checked), an edge being flipped only when both new triangles are
+//      positively oriented there (exact); then Lawson flips inside the region, keeping the
+//      segment, remove the needles that leaves. A flip replaces two triangles of a quadrilateral
+//      by two, so the face and vertex counts never change, and the mesh is valid between flips,
+//      so a failed insertion is undone exactly by flipping back. Every changed face must keep
+//      the orientation of each original region face at its corners and fold with none of its
+//      neighbours (exact, in their planes), else the insertion is undone. The thesis refills the
+//      emptied region ear by ear, smallest angle first; flips give the same kind of result with
+//      an exact check at every step.
+//      When undone because a vertex lies so close to the segment that any triangle on the
+//      segment would stand on edge, that vertex is moved onto the segment (if no face around it
+//      folds) and the two halves are inserted on their own;
+//   3. where the walk fails (concave parts, boundaries, a walk leaving the mesh) or the insertion
+//      is refused, the fallback of §3.2 (fig. 3.6): a shortest edge path between the two vertices
+//      (Dijkstra) whose inner vertices are moved onto the segment. A move that would flip or fold
+//      a face is refused, and the segment is reported as not embedded, the mesh left as it was.
 // Vertices the path runs through exactly (on the cutting plane) are moved onto the segment too.
-// The curve edges found or made are marked in `edge_is_constrained_map`; regions are the
-// connected sets of faces between them (`face_patch_map`).
+// Moved vertices and the network's vertices are never moved again nor walked through. The curve
+// edges are marked in `edge_is_constrained_map`; regions are the connected sets of faces between
+// them (`face_patch_map`).
 #ifndef MESHFIT_PARTITION_H
 #define MESHFIT_PARTITION_H
 
