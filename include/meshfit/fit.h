@@ -224,8 +224,8 @@ Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& network
   for (std::size_t k = 0; k < network.number_of_vertices(); ++k)
     if (get(wvpm, vertex_of[report.mesh_vertex_of_network_vertex[k]]) != network.point(k)) ++v.network_vertices_missing;
   v.segments = network.number_of_segments();
-  const double tolerance = 1e-9 * std::sqrt(CGAL::squared_distance(Point_3(network.bbox().xmin(), network.bbox().ymin(), network.bbox().zmin()),
-                                                                   Point_3(network.bbox().xmax(), network.bbox().ymax(), network.bbox().zmax())));
+  // Vertices moved onto a segment lie on it up to rounding: within the network's merge tolerance.
+  const double tolerance = network.tolerance();
   for (const auto& s : network.segments()) {
     const auto a = vertex_of[report.mesh_vertex_of_network_vertex[s[0]]], b = vertex_of[report.mesh_vertex_of_network_vertex[s[1]]];
     if (segment_edge_chain(work, wvpm, curve, a, b, tolerance).size() < 2) ++v.segments_not_chains;
