@@ -1,6 +1,7 @@
 #include <meshfit/check.h>
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 
 namespace meshfit {
@@ -77,6 +78,19 @@ Mesh_summary summarize_mesh(const Mesh_data& mesh) {
     if (g2 > 0) s.genus += static_cast<std::size_t>(g2 / 2);
   }
   return s;
+}
+
+double minimum_angle_degrees(const Mesh_data& m) {
+  double best = 180;
+  for (const auto& t : m.triangles)
+    for (int k = 0; k < 3; ++k) {
+      const Vector_3 a = m.points[t[(k + 1) % 3]] - m.points[t[k]];
+      const Vector_3 b = m.points[t[(k + 2) % 3]] - m.points[t[k]];
+      const double la = std::sqrt(a.squared_length()), lb = std::sqrt(b.squared_length());
+      if (la > 0 && lb > 0) best = std::min(best, std::acos(std::max(-1.0, std::min(1.0, a * b / (la * lb)))) * 180 / CGAL_PI);
+      else best = 0;
+    }
+  return best;
 }
 
 Check_summary check_inputs(const std::string& template_path, const std::string& curves_path,

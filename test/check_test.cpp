@@ -70,3 +70,15 @@ TEST_CASE("check: degenerate faces and isolated vertices are reported, not rejec
   meshfit::read_mesh_data(deg, &r);
   CHECK(r.degenerate_faces == std::vector<std::size_t>{0});
 }
+
+TEST_CASE("check: the smallest angle of a mesh, in degrees", "[check]") {
+  meshfit::Mesh_data m;
+  m.points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.5, std::sqrt(3.0) / 2, 0}};
+  m.triangles = {{0, 1, 3}};
+  CHECK(meshfit::minimum_angle_degrees(m) == Approx(60));
+  m.triangles.push_back({0, 1, 2});
+  CHECK(meshfit::minimum_angle_degrees(m) == Approx(45));
+  m.points.push_back({0, 0, 0});  // a zero-length edge
+  m.triangles.push_back({0, 4, 1});
+  CHECK(meshfit::minimum_angle_degrees(m) == 0);
+}

@@ -26,6 +26,10 @@ struct Mesh_summary {
 /// Computes the topology of `mesh`. \pre `mesh` passed the checks of read_mesh_data.
 Mesh_summary summarize_mesh(const Mesh_data& mesh);
 
+/// Smallest interior angle of the mesh's triangles, in degrees (floating point; a quality figure:
+/// 0 for a triangle with a zero-length edge).
+double minimum_angle_degrees(const Mesh_data& mesh);
+
 /// What `meshfit check` reports.
 struct Check_summary {
   Mesh_summary mesh;

@@ -5,6 +5,7 @@
 #ifndef MESHFIT_FIT_H
 #define MESHFIT_FIT_H
 
+#include <meshfit/check.h>
 #include <meshfit/correspondence.h>
 #include <meshfit/curve_network.h>
 #include <meshfit/deform.h>
@@ -76,23 +77,6 @@ struct Fit_report {
 };
 
 namespace internal {
-
-/// Smallest interior angle of the triangles of `tm`, in degrees (floating point; a quality figure).
-template <typename TriangleMesh, typename VPM>
-double minimum_angle_degrees(const TriangleMesh& tm, const VPM& vpm) {
-  double best = 180;
-  for (auto f : faces(tm)) {
-    const auto h = halfedge(f, tm);
-    const Point_3 p[3] = {point_of<TriangleMesh>(vpm, source(h, tm)), point_of<TriangleMesh>(vpm, target(h, tm)),
-                          point_of<TriangleMesh>(vpm, target(next(h, tm), tm))};
-    for (int k = 0; k < 3; ++k) {
-      const Vector_3 a = p[(k + 1) % 3] - p[k], b = p[(k + 2) % 3] - p[k];
-      const double s = std::sqrt(CGAL::cross_product(a, b).squared_length()), c = a * b;
-      best = std::min(best, s > 0 || c > 0 ? std::atan2(s, c) * 180 / CGAL_PI : 0.0);
-    }
-  }
-  return best;
-}
 
 /// Interior edges of `tm` whose two faces turn more than 90 degrees apart, and zero-area faces.
 template <typename TriangleMesh, typename VPM>
@@ -246,11 +230,11 @@ Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& network
   report.verify_seconds = internal::seconds_since(t);
   report.vertices = num_vertices(work);
   report.faces = num_faces(work);
-  report.minimum_angle_deg = internal::minimum_angle_degrees(work, wvpm);
 
   // Commit: the result replaces the template, vertex i staying vertex i.
   const Mesh_data result =
       to_mesh_data(work, CGAL::parameters::edge_is_constrained_map(curve).face_patch_map(region));
+  report.minimum_angle_deg = minimum_angle_degrees(result);
   auto ecm = get_parameter(np, CGAL::internal_np::edge_is_constrained);
   auto fpm = get_parameter(np, CGAL::internal_np::face_patch);
   if constexpr (!std::is_same_v<decltype(ecm), CGAL::internal_np::Param_not_found> &&

@@ -159,20 +159,6 @@ std::string json_number(double v) {
   return os.str();
 }
 
-/// Smallest interior angle of the mesh's triangles, in degrees (a quality figure).
-double minimum_angle_degrees(const meshfit::Mesh_data& m) {
-  double best = 180;
-  for (const auto& t : m.triangles)
-    for (int k = 0; k < 3; ++k) {
-      const meshfit::Vector_3 a = m.points[t[(k + 1) % 3]] - m.points[t[k]];
-      const meshfit::Vector_3 b = m.points[t[(k + 2) % 3]] - m.points[t[k]];
-      const double la = std::sqrt(a.squared_length()), lb = std::sqrt(b.squared_length());
-      if (la > 0 && lb > 0) best = std::min(best, std::acos(std::max(-1.0, std::min(1.0, a * b / (la * lb)))) * 180 / CGAL_PI);
-      else best = 0;
-    }
-  return best;
-}
-
 /// Checks the output paths before any work: the mesh output's format, and neither it nor the
 /// report is an input or the other. Returns the report path ("" when none).
 std::string check_outputs(const Command_line& cl, const std::vector<std::string>& inputs) {
@@ -213,7 +199,7 @@ meshfit::Progress_callback progress_printer(bool quiet) {
 std::string json_quality(const meshfit::Mesh_data& out) {
   std::ostringstream js;
   js << "{\"vertices\": " << out.points.size() << ", \"faces\": " << out.triangles.size()
-     << ", \"minimum_angle_deg\": " << json_number(minimum_angle_degrees(out)) << "}";
+     << ", \"minimum_angle_deg\": " << json_number(meshfit::minimum_angle_degrees(out)) << "}";
   return js.str();
 }
 
@@ -491,7 +477,7 @@ int run_smooth(const Command_line& cl) {
   }
   std::size_t curve_edges = 0;
   for (auto e : tm.edges()) curve_edges += curve[e];
-  const double min_angle_before = minimum_angle_degrees(data);
+  const double min_angle_before = meshfit::minimum_angle_degrees(data);
   const double read_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   const bool quiet = cl.quiet;
@@ -536,7 +522,7 @@ int run_smooth(const Command_line& cl) {
        << "},\n"
        << "  \"quality\": {\"vertices\": " << data.points.size() << ", \"faces\": " << data.triangles.size()
        << ", \"minimum_angle_deg_before\": " << json_number(min_angle_before)
-       << ", \"minimum_angle_deg\": " << json_number(minimum_angle_degrees(data)) << "}\n}\n";
+       << ", \"minimum_angle_deg\": " << json_number(meshfit::minimum_angle_degrees(data)) << "}\n}\n";
     write_report(report_path, js.str());
   }
   if (!failure.empty()) throw meshfit::Algorithm_failure("smooth", failure);
@@ -621,7 +607,7 @@ int run_fit(const Command_line& cl) {
   js << "]},\n"
      << "  \"quality\": {\"template_vertices\": " << r.template_vertices << ", \"template_faces\": " << r.template_faces
      << ", \"vertices\": " << out.points.size() << ", \"faces\": " << out.triangles.size()
-     << ", \"minimum_angle_deg\": " << json_number(minimum_angle_degrees(out))
+     << ", \"minimum_angle_deg\": " << json_number(failure.empty() ? r.minimum_angle_deg : meshfit::minimum_angle_degrees(out))
      << ", \"mean_smoothing_displacement\": " << json_number(sr.mean_displacement) << "}\n}\n";
   write_report(report_path, js.str());
 
