@@ -96,10 +96,7 @@ struct Deform_state {
   std::vector<Point_3> positions() const {
     std::vector<Point_3> p;
     p.reserve(vertex.size());
-    for (auto v : vertex) {
-      const auto& q = get(vpm, v);
-      p.emplace_back(q.x(), q.y(), q.z());
-    }
+    for (auto v : vertex) p.push_back(to_point(v));
     return p;
   }
   void set_positions(const std::vector<Point_3>& p) {
@@ -202,10 +199,7 @@ struct Deform_state {
     if (c[corner] >= reserved.size() || !reserved[c[corner]]) return c[corner];
     return split_face(f);
   }
-  Point_3 to_point(vertex_descriptor v) const {
-    const auto& q = get(vpm, v);
-    return Point_3(q.x(), q.y(), q.z());
-  }
+  Point_3 to_point(vertex_descriptor v) const { return point_of<TriangleMesh>(vpm, v); }
   Vector_3 normal(std::size_t i) const {
     const auto n = CGAL::Polygon_mesh_processing::compute_vertex_normal(vertex[i], tm,
                                                                         CGAL::parameters::vertex_point_map(vpm));

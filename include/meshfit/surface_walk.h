@@ -108,12 +108,6 @@ struct Surface_path {
 
 namespace internal {
 
-template <typename TriangleMesh, typename VPM>
-Point_3 point_of(const VPM& vpm, typename boost::graph_traits<TriangleMesh>::vertex_descriptor v) {
-  const auto& p = get(vpm, v);
-  return Point_3(p.x(), p.y(), p.z());
-}
-
 /// Area-weighted normal of `v` (sum of its faces' cross products), floating point.
 template <typename TriangleMesh, typename VPM>
 Vector_3 area_normal(const TriangleMesh& tm, const VPM& vpm,

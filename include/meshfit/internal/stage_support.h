@@ -3,10 +3,12 @@
 #define MESHFIT_INTERNAL_STAGE_SUPPORT_H
 
 #include <meshfit/exceptions.h>
+#include <meshfit/kernel.h>
 #include <meshfit/parameters.h>
 
 #include <CGAL/Named_function_parameters.h>
 #include <CGAL/boost/graph/properties.h>
+#include <boost/graph/graph_traits.hpp>
 
 #include <chrono>
 #include <cstddef>
@@ -27,6 +29,13 @@ void report_progress(const Progress& progress, const char* stage, const char* st
     if (!progress(Progress_step{stage, step, index, total}))
       throw Algorithm_failure(stage, "cancelled by the progress callback");
   }
+}
+
+/// The position of `v` as meshfit's Point_3, whatever the point type of the map.
+template <typename TriangleMesh, typename VPM>
+Point_3 point_of(const VPM& vpm, typename boost::graph_traits<TriangleMesh>::vertex_descriptor v) {
+  const auto& p = get(vpm, v);
+  return Point_3(p.x(), p.y(), p.z());
 }
 
 template <typename TriangleMesh, typename NamedParameters>
