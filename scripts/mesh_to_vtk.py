@@ -106,18 +106,6 @@ def read_ply(path):
             t = tokens[pos]
             pos += 1
             return float(t) if PLY_TYPES[kind] in "fd" else int(t)
-        for name, count, props in elements:
-            rows = []
-            for _ in range(count):
-                row = {}
-                for pname, ptype, ltype in props:
-                    if ltype:
-                        n = value(ltype)
-                        row[pname] = [value(ptype) for _ in range(n)]
-                    else:
-                        row[pname] = value(ptype)
-                rows.append(row)
-            records[name] = rows
     elif fmt in ("binary_little_endian", "binary_big_endian"):
         order = "<" if fmt == "binary_little_endian" else ">"
         pos = body_start
@@ -128,20 +116,21 @@ def read_ply(path):
             (v,) = struct.unpack_from(code, data, pos)
             pos += struct.calcsize(code)
             return v
-        for name, count, props in elements:
-            rows = []
-            for _ in range(count):
-                row = {}
-                for pname, ptype, ltype in props:
-                    if ltype:
-                        n = value(ltype)
-                        row[pname] = [value(ptype) for _ in range(n)]
-                    else:
-                        row[pname] = value(ptype)
-                rows.append(row)
-            records[name] = rows
     else:
         fail("%s: unsupported PLY format %s" % (path, fmt))
+    # The same records from either encoding; only how a value is read differs.
+    for name, count, props in elements:
+        rows = []
+        for _ in range(count):
+            row = {}
+            for pname, ptype, ltype in props:
+                if ltype:
+                    n = value(ltype)
+                    row[pname] = [value(ptype) for _ in range(n)]
+                else:
+                    row[pname] = value(ptype)
+            rows.append(row)
+        records[name] = rows
     points = [(r["x"], r["y"], r["z"]) for r in records.get("vertex", [])]
     face_rows = records.get("face", [])
     faces = [r.get("vertex_indices", r.get("vertex_index")) for r in face_rows]
