@@ -79,10 +79,12 @@ void validate_correspondences(const std::vector<Correspondence>& pairs,
                                        " correspondences are all coplanar; the coarse RBF needs "
                                        "pairs spanning 3D");
   }
-  if (internal::all_coplanar(targets))
+  // Coplanar on both sides is the thesis's case for auxiliary pairs (Rbf_interpolant::fit); a plane
+  // of network points for template vertices spanning 3D would flatten the template.
+  if (internal::all_coplanar(targets) && !internal::all_coplanar(sources))
     throw Invalid_input(file_only, "the network points of the " + std::to_string(pairs.size()) +
-                                       " correspondences are all coplanar; the coarse RBF needs "
-                                       "pairs spanning 3D");
+                                       " correspondences are all coplanar but their template vertices are not: "
+                                       "the coarse RBF would flatten the template; add a pair off that plane");
 }
 
 void write_correspondences(const std::string& path, const std::vector<Correspondence>& pairs,

@@ -149,35 +149,55 @@ Rbf_interpolant Rbf_interpolant::fit(const std::vector<Point_3>& centres_in,
                         " centres are collinear; they must span 3D (or at least a plane)");
   }
 
-  // Coplanar (exactly or nearly): add auxiliary pairs off the plane.
+  // Coplanar (exactly or nearly): add auxiliary pairs off the plane (thesis §2.2). Centre c_i
+  // offset by h_c·n (n the centres' plane normal, turned to the side of the given normals) maps to
+  // value v_i offset by h_v·σ·e, where e is the direction along which the values are thinnest,
+  // h_c and h_v a tenth of each side's bounding-box diagonal, and σ the sign that makes the best
+  // affine map of the plane onto the values keep its orientation (det[m_1, m_2, σe] > 0). Every
+  // quantity is taken from its own side, so the auxiliary pairs turn, move and scale with the
+  // template and with the network independently: the fit does not depend on where either is.
   Vector_3 centre_shift, thin;
   double centre_diag = 0, ratio = 0;
   std::tie(centre_shift, centre_diag) = frame_of(centres);
   std::tie(ratio, thin) = affine_conditioning(centres, centre_shift, 1.0 / centre_diag);
   std::size_t auxiliary = 0;
   if (internal::all_coplanar(centres) || ratio < rbf_coplanarity_bound) {
-    const double h = 0.1 * centre_diag;
     const std::size_t n0 = centres.size();
-    auto augment = [&](bool use_normals) {
-      std::vector<Point_3> c = centres, v = values;
-      for (std::size_t i = 0; i < n0; ++i) {
-        Vector_3 d = thin;
-        if (use_normals) {
-          const double len = std::sqrt(normals[i].squared_length());
-          if (len > 0) d = normals[i] / len;
-        }
-        c.push_back(centres[i] + h * d);
-        v.push_back(values[i] + h * d);
+    Vector_3 n = thin / std::sqrt(thin.squared_length());
+    if (!normals.empty()) {
+      Vector_3 mean(0, 0, 0);
+      for (const Vector_3& v : normals) {
+        const double len = std::sqrt(v.squared_length());
+        if (len > 0) mean = mean + v / len;
       }
-      return std::make_pair(c, v);
-    };
-    auto [c, v] = augment(!normals.empty());
-    auto [s, dg] = frame_of(c);
-    if (!normals.empty() && affine_conditioning(c, s, 1.0 / dg).first < rbf_coplanarity_bound)
-      std::tie(c, v) = augment(false);
-    auxiliary = c.size() - n0;
-    centres = std::move(c);
-    values = std::move(v);
+      if (mean * n < 0) n = -n;
+    }
+    const auto [value_shift0, value_diag0] = frame_of(values);
+    const Vector_3 e0 = affine_conditioning(values, value_shift0, value_diag0 > 0 ? 1.0 / value_diag0 : 1.0).second;
+    const Vector_3 e = e0 / std::sqrt(e0.squared_length());
+    // The in-plane part of the best affine map, least squares: v - v̄ ≈ m_1 (c - c̄)·u_1 + m_2 (c - c̄)·u_2.
+    const Vector_3 u1 = [&] {
+      const Vector_3 a = std::abs(n.x()) < 0.9 ? Vector_3(1, 0, 0) : Vector_3(0, 1, 0);
+      const Vector_3 u = CGAL::cross_product(n, a);
+      return u / std::sqrt(u.squared_length());
+    }();
+    const Vector_3 u2 = CGAL::cross_product(n, u1);
+    Eigen::MatrixXd A(n0, 3), B(n0, 3);
+    for (std::size_t i = 0; i < n0; ++i) {
+      const Vector_3 q = (centres[i] - CGAL::ORIGIN - centre_shift) / centre_diag;
+      const Vector_3 w = values[i] - CGAL::ORIGIN - value_shift0;
+      A.row(static_cast<Eigen::Index>(i)) << q * u1, q * u2, 1.0;
+      B.row(static_cast<Eigen::Index>(i)) << w.x(), w.y(), w.z();
+    }
+    const Eigen::MatrixXd M = A.colPivHouseholderQr().solve(B);  // rows: m_1, m_2, offset
+    const Vector_3 m1(M(0, 0), M(0, 1), M(0, 2)), m2(M(1, 0), M(1, 1), M(1, 2));
+    const double sigma = CGAL::cross_product(m1, m2) * e < 0 ? -1.0 : 1.0;
+    const double hc = 0.1 * centre_diag, hv = 0.1 * (value_diag0 > 0 ? value_diag0 : centre_diag);
+    for (std::size_t i = 0; i < n0; ++i) {
+      centres.push_back(centres[i] + hc * n);
+      values.push_back(values[i] + (hv * sigma) * e);
+    }
+    auxiliary = centres.size() - n0;
     std::tie(centre_shift, centre_diag) = frame_of(centres);
   }
 
@@ -239,6 +259,21 @@ Rbf_interpolant Rbf_interpolant::fit(const std::vector<Point_3>& centres_in,
     report->relative_residual = residual;
   }
   return E;
+}
+
+Point_3 Rbf_interpolant::affine_part(const Point_3& p) const {
+  const double x = (p.x() - m_shift_in.x()) * m_scale_in, y = (p.y() - m_shift_in.y()) * m_scale_in,
+               z = (p.z() - m_shift_in.z()) * m_scale_in;
+  double r[3];
+  for (int d = 0; d < 3; ++d) r[d] = m_affine[0][d] * x + m_affine[1][d] * y + m_affine[2][d] * z + m_affine[3][d];
+  return Point_3(m_shift_out.x() + r[0] / m_scale_out, m_shift_out.y() + r[1] / m_scale_out,
+                 m_shift_out.z() + r[2] / m_scale_out);
+}
+
+double Rbf_interpolant::affine_determinant() const {
+  const auto& a = m_affine;  // rows x, y, z of the normalised input; columns the output
+  return a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
+         a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
 }
 
 Point_3 Rbf_interpolant::operator()(const Point_3& p) const {

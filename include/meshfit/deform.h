@@ -1,20 +1,28 @@
 // meshfit: stage 1, global deformation of the template onto the curve network (thesis ch. 2).
 //
 //   coarse  an RBF through the user's pairs moves the whole template (eq. 2.6–2.10);
-//   fine    every network vertex is paired with its nearest template vertex (§2.1), and a second
-//           RBF through those pairs puts each paired template vertex exactly on its network
-//           vertex; faces the fine motion would flip (§2.3.1, exact flip counter) are subdivided
-//           and the correspondences recomputed until no face flips (§2.3.2).
+//   fine    two methods (Fine_level):
+//           surface (default): the curves are first embedded in the coarse-deformed surface
+//           (each network vertex gets a mesh vertex at its nearest surface point, each segment
+//           becomes a chain of edges by stage 2's insertion, while nothing is folded yet), then
+//           the embedded vertices are moved onto the curves and the rest of the mesh follows a
+//           thin-plate displacement field (Botsch & Sorkine 2008, displacement.h);
+//           thesis: every network vertex is paired with its nearest template vertex (§2.1), and
+//           a second RBF through those pairs puts each paired template vertex exactly on its
+//           network vertex; faces the fine motion would flip (§2.3.1, exact flip counter) are
+//           subdivided and the correspondences recomputed until no face flips (§2.3.2).
 #ifndef MESHFIT_DEFORM_H
 #define MESHFIT_DEFORM_H
 
 #include <meshfit/correspondence.h>
 #include <meshfit/curve_network.h>
+#include <meshfit/displacement.h>
 #include <meshfit/exceptions.h>
 #include <meshfit/flip.h>
 #include <meshfit/internal/stage_support.h>
 #include <meshfit/internal/triangle_corners.h>
 #include <meshfit/parameters.h>
+#include <meshfit/partition.h>
 #include <meshfit/rbf.h>
 
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
@@ -27,8 +35,11 @@
 #include <CGAL/boost/graph/helpers.h>
 #include <CGAL/boost/graph/named_params_helper.h>
 
+#include <algorithm>
 #include <chrono>
 #include <map>
+#include <sstream>
+#include <string>
 #include <vector>
 
 namespace meshfit {
@@ -43,14 +54,29 @@ enum class Curve_density {
   drop
 };
 
+/// How the fine level brings the coarse-deformed template onto the curves.
+enum class Fine_level {
+  /// Embed the curves in the coarse-deformed surface, then move the embedded vertices onto the
+  /// curves with a thin-plate displacement of the whole mesh (deform_fine_on_surface). Default.
+  surface,
+  /// The thesis's: nearest-vertex pairs, an RBF through them, local subdivision where faces
+  /// flip (deform_fine).
+  thesis
+};
+inline const char* to_string(Fine_level level) { return level == Fine_level::surface ? "surface" : "thesis"; }
+
 /// What a deformation did.
 struct Deformation_report {
   // coarse level
   std::size_t user_pairs = 0;
   Rbf_fit_report coarse_fit;
   double coarse_seconds = 0;
-  std::size_t coarse_flipped_faces = 0;    ///< faces the coarse motion flips (exact flip counter)
-  /// More than half the faces flip at the coarse level: the pairs mirror the template.
+  /// Faces the coarse motion turns over relative to the affine image of the template (exact flip
+  /// counter): local inversions of the RBF, whatever the placement of the template.
+  std::size_t coarse_flipped_faces = 0;
+  /// det of the linear part R of the coarse interpolant (Rbf_interpolant::affine_determinant).
+  double coarse_affine_determinant = 0;
+  /// The affine part mirrors space (det R ≤ 0): the pairs reverse the template's orientation.
   bool orientation_reversed = false;
   std::size_t degenerate_faces_skipped = 0;  ///< zero-area faces before the fine motion: not judged
   // fine level
@@ -63,7 +89,17 @@ struct Deformation_report {
   std::size_t vertices_inserted_for_density = 0;  ///< Curve_density::refine
   std::size_t vertices_inserted_for_flips = 0;    ///< by flip prevention
   std::vector<std::size_t> dropped_network_vertices;  ///< Curve_density::drop: not represented
-  Rbf_fit_report fine_fit;
+  Rbf_fit_report fine_fit;  ///< Fine_level::thesis
+  Fine_level fine_level = Fine_level::surface;
+  // Fine_level::surface
+  double largest_projection_distance = 0;   ///< from a network vertex to the coarse surface
+  std::size_t segments_embedded = 0;        ///< as edge chains of the coarse surface
+  std::vector<std::size_t> segments_not_embedded;  ///< indices into network.segments()
+  Partition_report embedding;               ///< the insertion on the coarse surface
+  Displacement_report displacement;
+  std::size_t untangle_rounds = 0;          ///< rounds of local relaxation where faces flipped
+  std::size_t untangled_vertices = 0;       ///< free vertices relaxed, over all rounds
+  std::size_t remaining_folds = 0;          ///< faces beside an edge folded by the fine level, at the end
   double fine_seconds = 0;
   // result
   std::size_t vertices = 0, faces = 0;
@@ -71,6 +107,17 @@ struct Deformation_report {
   /// on it, or Closest_point_assignment::unassigned when it was dropped.
   std::vector<std::size_t> mesh_vertex_of_network_vertex;
 };
+
+/// What to tell the user when the coarse level mirrors the template.
+inline std::string orientation_reversal_message(double affine_determinant) {
+  std::ostringstream os;
+  os.precision(3);
+  os << "the correspondences mirror the template: the affine part of the coarse map has determinant "
+     << affine_determinant
+     << " (a reflection, not a rotation); check that the pairs are not listed in mirrored order, or mirror the "
+        "template first";
+  return os.str();
+}
 
 namespace internal {
 
@@ -123,6 +170,30 @@ struct Deform_state {
     }
     return flipped;
   }
+  /// The faces beside an interior edge whose two faces turn more than 90 degrees apart at
+  /// `positions` (exact: one face is not positively oriented in the other's plane), leaving out
+  /// the edges `except` (folds already there).
+  std::vector<face_descriptor> folded_faces(const std::vector<Point_3>& positions,
+                                            std::vector<bool>* folded_edges = nullptr,
+                                            const std::vector<bool>* except = nullptr) const {
+    std::vector<face_descriptor> out;
+    if (folded_edges) folded_edges->assign(num_edges(tm), false);
+    std::size_t k = 0;
+    for (auto e : edges(tm)) {
+      const std::size_t ek = k++;
+      const auto h = halfedge(e, tm), g = opposite(h, tm);
+      if (is_border(h, tm) || is_border(g, tm)) continue;
+      if (except && ek < except->size() && (*except)[ek]) continue;
+      const auto a = corners(face(h, tm)), b = corners(face(g, tm));
+      const Triangle_points pa{positions[a[0]], positions[a[1]], positions[a[2]]};
+      if (orientation_in_plane(pa, positions[b[0]], positions[b[1]], positions[b[2]]) == CGAL::POSITIVE) continue;
+      if (folded_edges) (*folded_edges)[ek] = true;
+      out.push_back(face(h, tm));
+      out.push_back(face(g, tm));
+    }
+    return out;
+  }
+
   using Point = typename boost::property_traits<VPM>::value_type;
   std::size_t faces_split = 0;  ///< by the split functions below
 
@@ -163,20 +234,22 @@ struct Deform_state {
   }
   /// A vertex at (or near) `p`, a point of face `f`: a new vertex inside the face or on one of its
   /// edges, or, when `p` is near a corner, that corner if it is not `reserved` (else a new vertex
-  /// at the centroid of `f`). Returns its index.
-  std::size_t insert_near(face_descriptor f, const Point_3& p, const std::vector<bool>& reserved) {
+  /// inside the face, `margin` away from its edges). "Near" is a barycentric coordinate below
+  /// `margin`; `centroid_when_reserved` puts the new vertex at the centroid instead. Returns its
+  /// index.
+  std::size_t insert_near(face_descriptor f, const Point_3& p, const std::vector<bool>& reserved,
+                          double margin = 0.15, bool centroid_when_reserved = true) {
     const auto c = corners(f);
     const Point_3 t[3] = {to_point(vertex[c[0]]), to_point(vertex[c[1]]), to_point(vertex[c[2]])};
     // Barycentric coordinates of p (a placement choice, not a geometric decision: whatever is
-    // made here is checked by the flip detection). Splitting near an edge or a corner would
-    // make slivers: near an edge the edge is split instead, near a corner the face's centroid.
+    // made here is checked afterwards). Splitting near an edge or a corner would make slivers:
+    // near an edge the edge is split instead, near a corner the corner is used.
     const Vector_3 n = CGAL::cross_product(t[1] - t[0], t[2] - t[0]);
     const double area2 = n.squared_length();
     double l[3] = {1.0 / 3, 1.0 / 3, 1.0 / 3};
     if (area2 > 0)
       for (int k = 0; k < 3; ++k)
         l[k] = CGAL::cross_product(t[(k + 1) % 3] - p, t[(k + 2) % 3] - p) * n / area2;
-    constexpr double margin = 0.15;
     int small = 0, which = 0;
     for (int k = 0; k < 3; ++k)
       if (l[k] < margin) { ++small; which = k; }
@@ -197,7 +270,12 @@ struct Deform_state {
     for (int k = 1; k < 3; ++k)
       if (l[k] > l[corner]) corner = k;
     if (c[corner] >= reserved.size() || !reserved[c[corner]]) return c[corner];
-    return split_face(f);
+    if (centroid_when_reserved) return split_face(f);
+    double sum = 0;
+    for (double& x : l) sum += (x = std::max(x, margin));
+    return split_face_at(f, Point_3((l[0] * t[0].x() + l[1] * t[1].x() + l[2] * t[2].x()) / sum,
+                                    (l[0] * t[0].y() + l[1] * t[1].y() + l[2] * t[2].y()) / sum,
+                                    (l[0] * t[0].z() + l[1] * t[1].z() + l[2] * t[2].z()) / sum));
   }
   Point_3 to_point(vertex_descriptor v) const { return point_of<TriangleMesh>(vpm, v); }
   Vector_3 normal(std::size_t i) const {
@@ -256,12 +334,17 @@ Deformation_report deform_coarse(TriangleMesh& tm, const Curve_network& network,
   std::vector<Point_3> p;
   E.evaluate(before, p);
   for (const Correspondence& c : pairs) p[c.template_vertex] = network.point(c.network_vertex);
-  // A mirror image (an affine part with negative determinant) flips every face: report it as an
-  // orientation reversal rather than as many flips.
+  // Orientation is judged against the affine part of E, not against the template's own
+  // placement: a rotation of the template (any angle) has det R > 0 and flips nothing, a mirror
+  // has det R < 0. The faces counted as flipped are those that the RBF part turns over relative
+  // to the affine image of the template (exact flip counter), so the count, too, is unchanged by
+  // a rigid motion or a uniform scaling of either input.
+  report.coarse_affine_determinant = E.affine_determinant();
+  report.orientation_reversed = !(report.coarse_affine_determinant > 0);
+  std::vector<Point_3> affine_image(before.size());
+  for (std::size_t i = 0; i < before.size(); ++i) affine_image[i] = E.affine_part(before[i]);
   std::size_t degenerate = 0;
-  report.coarse_flipped_faces = s.flipped_faces(before, p, degenerate).size();
-  const std::size_t judged = num_faces(tm) - degenerate;
-  report.orientation_reversed = judged > 0 && 2 * report.coarse_flipped_faces > judged;
+  report.coarse_flipped_faces = s.flipped_faces(affine_image, p, degenerate).size();
   s.set_positions(p);
   report.coarse_seconds = internal::seconds_since(t0);
   report.vertices = num_vertices(tm);
@@ -301,6 +384,7 @@ Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
   internal::Deform_state<TriangleMesh, decltype(vpm)> s(tm, vpm);
   internal::check_pairs(pairs, s.vertex.size(), num_faces(tm), network);
   Deformation_report report;
+  report.fine_level = Fine_level::thesis;
   report.user_pairs = pairs.size();
 
   // Pairs kept from round to round: the user's, then those made for density and flips.
@@ -434,7 +518,356 @@ Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
   return report;
 }
 
-/// Both levels: deform_coarse then deform_fine (unless the named parameter `coarse_only` is true).
+/// Fine level, Fine_level::surface, on a template already roughly in place (deform_coarse):
+///   1. every network vertex gets a mesh vertex at (or near) its nearest point on the surface (a
+///      face or an edge is split; a template vertex already there is reused; the user's pairs
+///      keep their template vertices);
+///   2. every segment becomes a chain of mesh edges between those vertices on this surface, with
+///      stage 2's insertion (partition_mesh on the network as projected), where nothing is folded;
+///   3. the network vertices are moved onto their points, the inner vertices of each chain onto
+///      the segment (at their parameter along the projected segment), and every other vertex by
+///      the thin-plate displacement field through those motions (interpolate_displacements);
+///   4. where a face still turns over (exact flip counter against step 2's surface), the free
+///      vertices around it are relaxed towards the mean of their neighbours, in growing rings, for
+///      at most `number_of_iterations` rounds (default 10); `report.remaining_flips` is what is
+///      left.
+/// Vertices are added only in step 1 (at most one per network vertex); new ones come after the
+/// existing ones. Named parameters: `vertex_point_map`, `number_of_iterations`, `progress`.
+/// \throws Invalid_input for pairs out of range, or two pairs that give one network vertex two
+///         template vertices (or the reverse); Algorithm_failure, naming the polylines, when a
+///         polyline lies entirely far from the coarse-deformed template (farther than a tenth of
+///         its bounding-box diagonal), or when two network vertices land on one mesh vertex.
+template <typename TriangleMesh, typename NamedParameters = CGAL::parameters::Default_named_parameters>
+Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network& network,
+                                          const std::vector<Correspondence>& pairs,
+                                          const NamedParameters& np = CGAL::parameters::default_values()) {
+  using CGAL::parameters::choose_parameter;
+  using CGAL::parameters::get_parameter;
+  using GT = boost::graph_traits<TriangleMesh>;
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::size_t max_rounds =
+      static_cast<std::size_t>(choose_parameter(get_parameter(np, CGAL::internal_np::number_of_iterations), 10));
+  const auto progress = get_parameter(np, internal_np::progress);
+  Progress_callback forward = [](const Progress_step&) { return true; };
+  if constexpr (!std::is_same_v<decltype(progress), const CGAL::internal_np::Param_not_found>) forward = progress;
+
+  auto vpm = internal::vertex_point_map_of(tm, np);
+  internal::Deform_state<TriangleMesh, decltype(vpm)> s(tm, vpm);
+  internal::check_pairs(pairs, s.vertex.size(), num_faces(tm), network);
+  Deformation_report report;
+  report.fine_level = Fine_level::surface;
+  report.user_pairs = pairs.size();
+  const std::size_t unassigned = Closest_point_assignment::unassigned;
+  const std::size_t nv = network.number_of_vertices();
+  std::vector<std::size_t> mesh_of(nv, unassigned);
+  std::vector<bool> reserved(s.vertex.size(), false);
+  for (const Correspondence& c : pairs) {
+    const bool other_vertex = mesh_of[c.network_vertex] != unassigned && mesh_of[c.network_vertex] != c.template_vertex;
+    const bool other_point = reserved[c.template_vertex] && mesh_of[c.network_vertex] != c.template_vertex;
+    if (other_vertex || other_point)
+      throw Invalid_input(c.where, std::string("deform: this pair gives ") +
+                                       (other_vertex ? "a network vertex a second template vertex"
+                                                     : "a template vertex a second network vertex"));
+    mesh_of[c.network_vertex] = c.template_vertex;
+    reserved[c.template_vertex] = true;
+  }
+
+  // 1. Network vertices onto the surface. Whatever distance lies between a network vertex's
+  // surface point and its mesh vertex is a tangential motion in step 3, which can fold small
+  // faces: the margin that keeps new vertices off edges and corners is small.
+  const double placement_margin = 0.05;
+  internal::report_progress(progress, "deform", "fine: placing the network vertices on the surface", 0, 4);
+  using Primitive = CGAL::AABB_face_graph_triangle_primitive<TriangleMesh, decltype(vpm)>;
+  using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+  const std::size_t template_vertices = s.vertex.size();
+  std::vector<double> distance(nv, 0);
+  {
+    Tree tree(faces(tm).first, faces(tm).second, tm, vpm);
+    tree.accelerate_distance_queries();
+    // A polyline all of whose points are far from the surface cannot be embedded in it: say so
+    // now, rather than after a long run.
+    Bbox_3 box;
+    for (auto v : vertices(tm)) box += get(vpm, v).bbox();
+    const double diag = std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
+                                  CGAL::square(box.zmax() - box.zmin()));
+    for (std::size_t v = 0; v < nv; ++v) {
+      distance[v] = std::sqrt(CGAL::squared_distance(tree.closest_point(network.point(v)), network.point(v)));
+      report.largest_projection_distance = std::max(report.largest_projection_distance, distance[v]);
+    }
+    std::vector<std::size_t> far;
+    for (std::size_t k = 0; k < network.polylines().size(); ++k) {
+      bool all_far = true;
+      for (std::size_t v : network.polylines()[k]) all_far = all_far && distance[v] > 0.1 * diag;
+      if (all_far) far.push_back(k);
+    }
+    if (!far.empty()) {
+      std::ostringstream os;
+      os << (far.size() == 1 ? "polyline " : "polylines ");
+      for (std::size_t k = 0; k < far.size() && k < 10; ++k) os << (k ? ", " : "") << far[k] + 1;
+      if (far.size() > 10) os << ", …";
+      os << " (in file order) lie" << (far.size() == 1 ? "s" : "")
+         << " far from the template after the coarse level (every point farther than a tenth of its size): "
+            "give a correspondence on "
+         << (far.size() == 1 ? "it" : "them") << ", or remove " << (far.size() == 1 ? "it" : "them");
+      throw Algorithm_failure("deform", os.str());
+    }
+  }
+
+  // Boundary: a network vertex nearer to the template's boundary than half a boundary edge more
+  // than to the surface goes onto the boundary (a border edge is split, or a border vertex
+  // used), and a segment between two such vertices that runs along the boundary becomes the
+  // boundary arc between them, rather than a chord cutting border triangles off.
+  std::vector<bool> on_border(nv, false);
+  std::vector<typename GT::halfedge_descriptor> border;
+  for (auto h : halfedges(tm))
+    if (is_border(h, tm)) border.push_back(h);
+  for (std::size_t v = 0; v < nv && !border.empty(); ++v) {
+    if (mesh_of[v] != unassigned) {
+      on_border[v] = static_cast<bool>(is_border(s.vertex[mesh_of[v]], tm));
+      continue;
+    }
+    typename GT::halfedge_descriptor best;
+    double best_d2 = std::numeric_limits<double>::infinity(), best_u = 0, best_len = 0;
+    for (auto h : border) {
+      const Point_3 a = s.to_point(source(h, tm)), b = s.to_point(target(h, tm));
+      const Vector_3 ab = b - a;
+      const double len2 = ab.squared_length();
+      const double u = len2 > 0 ? std::min(1.0, std::max(0.0, ((network.point(v) - a) * ab) / len2)) : 0.0;
+      const double d2 = CGAL::squared_distance(network.point(v), a + u * ab);
+      if (d2 < best_d2) best = h, best_d2 = d2, best_u = u, best_len = std::sqrt(len2);
+    }
+    if (!(std::sqrt(best_d2) <= distance[v] + 0.5 * best_len)) continue;
+    on_border[v] = true;
+    const typename GT::vertex_descriptor near_end = best_u < 0.5 ? source(best, tm) : target(best, tm);
+    const std::size_t e = get(s.index, near_end);
+    if ((best_u < placement_margin || best_u > 1 - placement_margin) && !reserved[e]) {
+      mesh_of[v] = e;
+    } else {
+      const double u = std::min(1 - placement_margin, std::max(placement_margin, best_u));
+      const Point_3 a = s.to_point(source(best, tm)), b = s.to_point(target(best, tm));
+      mesh_of[v] = s.split_edge_at(best, a + u * (b - a));
+      reserved.resize(s.vertex.size(), false);
+      const auto x = s.vertex[mesh_of[v]];
+      for (auto h : CGAL::halfedges_around_target(halfedge(x, tm), tm)) {
+        if (is_border(h, tm)) border.push_back(h);
+        if (is_border(opposite(h, tm), tm)) border.push_back(opposite(h, tm));
+      }
+    }
+    reserved[mesh_of[v]] = true;
+  }
+  std::vector<std::size_t> waiting;
+  for (std::size_t v = 0; v < nv; ++v)
+    if (mesh_of[v] == unassigned) waiting.push_back(v);
+  for (std::size_t pass = 0; !waiting.empty(); ++pass) {
+    Tree tree(faces(tm).first, faces(tm).second, tm, vpm);
+    tree.accelerate_distance_queries();
+    std::map<typename GT::face_descriptor, std::pair<std::size_t, Point_3>> at;
+    std::vector<std::size_t> later;
+    for (std::size_t v : waiting) {
+      const auto hit = tree.closest_point_and_primitive(network.point(v));
+      if (!at.emplace(hit.second, std::make_pair(v, Point_3(hit.first.x(), hit.first.y(), hit.first.z()))).second)
+        later.push_back(v);
+    }
+    for (const auto& [f, vp] : at) {
+      const std::size_t t = s.insert_near(f, vp.second, reserved, placement_margin, false);
+      reserved.resize(s.vertex.size(), false);
+      reserved[t] = true;
+      mesh_of[vp.first] = t;
+    }
+    waiting.swap(later);
+  }
+  report.vertices_inserted_for_density = s.vertex.size() - template_vertices;
+  report.faces_subdivided = s.faces_split;
+
+  // 2. The network as projected, embedded in the surface.
+  internal::report_progress(progress, "deform", "fine: embedding the curves in the coarse surface", 1, 4);
+  // Segments along the boundary: the border arc from one end to the other that passes no other
+  // network vertex, when it is at most half as long again as the segment (a segment across the
+  // surface between two boundary points is not along the boundary).
+  std::vector<bool> is_network_vertex(s.vertex.size(), false);
+  for (std::size_t t : mesh_of) is_network_vertex[t] = true;
+  auto fixed = get(CGAL::dynamic_vertex_property_t<bool>(), tm);
+  for (auto v : vertices(tm)) put(fixed, v, false);
+  std::vector<std::vector<typename GT::vertex_descriptor>> arc(network.segments().size());
+  for (std::size_t k = 0; k < network.segments().size(); ++k) {
+    const auto [a, b] = network.segments()[k];
+    if (!on_border[a] || !on_border[b]) continue;
+    const auto A = s.vertex[mesh_of[a]], B = s.vertex[mesh_of[b]];
+    const double chord = std::sqrt(CGAL::squared_distance(s.to_point(A), s.to_point(B)));
+    for (auto h0 : CGAL::halfedges_around_source(A, tm)) {
+      // Border halfedges leaving A, and those entering it walked backwards.
+      for (int direction = 0; direction < 2; ++direction) {
+        const auto start = direction == 0 ? h0 : opposite(h0, tm);
+        if (!is_border(start, tm)) continue;
+        std::vector<typename GT::vertex_descriptor> path{A};
+        double length = 0;
+        auto h = start;
+        for (std::size_t guard = 0; guard < border.size() + 2; ++guard) {
+          const auto u = direction == 0 ? target(h, tm) : source(h, tm);
+          length += std::sqrt(CGAL::squared_distance(s.to_point(path.back()), s.to_point(u)));
+          path.push_back(u);
+          if (u == B || is_network_vertex[get(s.index, u)] || length > 1.5 * chord) break;
+          h = direction == 0 ? next(h, tm) : prev(h, tm);
+        }
+        if (path.back() == B && length <= 1.5 * chord && (arc[k].empty() || path.size() < arc[k].size()))
+          arc[k] = path;
+      }
+    }
+    for (std::size_t i = 1; i + 1 < arc[k].size(); ++i) put(fixed, arc[k][i], true);
+  }
+
+  // The network as projected, but for the boundary segments, embedded by stage 2's insertion.
+  std::vector<Curve_network::Polyline> lines;
+  for (std::size_t k = 0; k < network.segments().size(); ++k)
+    if (arc[k].empty())
+      lines.push_back({s.to_point(s.vertex[mesh_of[network.segments()[k][0]]]),
+                       s.to_point(s.vertex[mesh_of[network.segments()[k][1]]])});
+  auto curve = get(CGAL::dynamic_edge_property_t<bool>(), tm);
+  for (auto e : edges(tm)) put(curve, e, false);
+  if (!lines.empty()) {
+    const Curve_network projected(lines);
+    std::vector<bool> used(nv, false);
+    for (std::size_t k = 0; k < network.segments().size(); ++k)
+      if (arc[k].empty()) used[network.segments()[k][0]] = used[network.segments()[k][1]] = true;
+    if (projected.number_of_vertices() != static_cast<std::size_t>(std::count(used.begin(), used.end(), true)))
+      throw Algorithm_failure("deform", "network vertices land on the surface where others do: the curves are "
+                                        "denser than the template can hold there (refine the template)");
+    report.embedding = partition_mesh(
+        tm, projected,
+        parameters::progress(forward, CGAL::parameters::edge_is_constrained_map(curve).vertex_is_constrained_map(fixed)));
+  }
+  // Chain vertices lie on their (projected) segments within rounding: the default merge
+  // tolerance of the mesh's size.
+  Bbox_3 box;
+  for (auto v : vertices(tm)) box += get(vpm, v).bbox();
+  const double chain_tolerance =
+      default_merge_tolerance * std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
+                                          CGAL::square(box.zmax() - box.zmin()));
+
+  // 3. Targets: network vertices at their points, chain vertices on their segments.
+  internal::report_progress(progress, "deform", "fine: moving the curves into place (thin-plate displacement)", 2, 4);
+  const std::vector<Point_3> before = s.positions();
+  const std::size_t n = before.size();
+  std::vector<bool> constrained(n, false);
+  std::vector<Point_3> target(n);
+  for (std::size_t v = 0; v < nv; ++v) {
+    constrained[mesh_of[v]] = true;
+    target[mesh_of[v]] = network.point(v);
+  }
+  for (std::size_t k = 0; k < network.segments().size(); ++k) {
+    const auto [a, b] = network.segments()[k];
+    const auto A = s.vertex[mesh_of[a]], B = s.vertex[mesh_of[b]];
+    const auto chain = arc[k].empty() ? segment_edge_chain(tm, vpm, curve, A, B, chain_tolerance) : arc[k];
+    if (chain.size() < 2) {
+      report.segments_not_embedded.push_back(k);
+      continue;
+    }
+    ++report.segments_embedded;
+    // Where each inner vertex goes along the segment: its parameter along the projected segment,
+    // or along the arc for a boundary arc.
+    const Point_3 pa = s.to_point(A);
+    const Vector_3 d = s.to_point(B) - pa;
+    std::vector<double> arc_length{0};
+    for (std::size_t i = 1; i < chain.size(); ++i)
+      arc_length.push_back(arc_length.back() + std::sqrt(CGAL::squared_distance(s.to_point(chain[i - 1]), s.to_point(chain[i]))));
+    for (std::size_t i = 1; i + 1 < chain.size(); ++i) {
+      const std::size_t c = get(s.index, chain[i]);
+      const double t = arc[k].empty() ? ((before[c] - pa) * d) / d.squared_length() : arc_length[i] / arc_length.back();
+      constrained[c] = true;
+      target[c] = network.point(a) + t * (network.point(b) - network.point(a));
+    }
+  }
+  Vertex_adjacency adjacency;
+  adjacency.offsets.reserve(n + 1);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (auto h : CGAL::halfedges_around_target(halfedge(s.vertex[i], tm), tm))
+      adjacency.neighbours.push_back(get(s.index, source(h, tm)));
+    adjacency.offsets.push_back(adjacency.neighbours.size());
+  }
+  std::vector<Vector_3> given(n, Vector_3(0, 0, 0));
+  for (std::size_t i = 0; i < n; ++i)
+    if (constrained[i]) given[i] = target[i] - before[i];
+  const std::vector<Vector_3> d = interpolate_displacements(adjacency, constrained, given, 2, &report.displacement);
+  std::vector<Point_3> after(n);
+  for (std::size_t i = 0; i < n; ++i) after[i] = constrained[i] ? target[i] : before[i] + d[i];
+  report.fine_pairs = static_cast<std::size_t>(std::count(constrained.begin(), constrained.end(), true));
+
+  // 4. Untangling: relax the free vertices around faces that turned over, in growing rings.
+  internal::report_progress(progress, "deform", "fine: relaxing where faces turned over", 3, 4);
+  // Bad faces: those turned over against step 2's surface, and those beside an edge that folds
+  // now and did not fold there. "Turned over" is judged against the surface's vertex normals
+  // (the sign of the face's orientation with the point a + N above its corner a, N the sum of
+  // its corners' normals on step 2's surface, an exact predicate): a face's own plane on that
+  // surface may stand on edge where a curve runs through a template vertex, and a flip test in
+  // that plane would call the repair of such a face a flip.
+  std::vector<bool> folded_before;
+  s.folded_faces(before, &folded_before);
+  std::vector<Vector_3> reference_normal(n);
+  for (std::size_t i = 0; i < n; ++i) reference_normal[i] = s.normal(i);
+  std::size_t degenerate = 0;
+  auto bad_faces = [&] {
+    std::vector<typename GT::face_descriptor> bad;
+    for (auto f : faces(tm)) {
+      const auto c = s.corners(f);
+      const Vector_3 N = reference_normal[c[0]] + reference_normal[c[1]] + reference_normal[c[2]];
+      if (CGAL::orientation(after[c[0]], after[c[1]], after[c[2]], after[c[0]] + N) != CGAL::POSITIVE) bad.push_back(f);
+    }
+    report.remaining_flips = bad.size();
+    const auto folded = s.folded_faces(after, nullptr, &folded_before);
+    bad.insert(bad.end(), folded.begin(), folded.end());
+    return bad;
+  };
+  auto flipped = bad_faces();
+  report.flips_found = flipped.size();
+  report.flip_rounds = 1;
+  for (std::size_t round = 0; !flipped.empty() && round < max_rounds; ++round) {
+    std::vector<bool> relax(n, false);
+    std::vector<std::size_t> ring;
+    for (auto f : flipped)
+      for (std::size_t c : s.corners(f))
+        if (!constrained[c] && !relax[c]) relax[c] = true, ring.push_back(c);
+    for (std::size_t grow = 0; grow <= round; ++grow) {
+      std::vector<std::size_t> next_ring;
+      for (std::size_t i : ring)
+        for (std::size_t k = adjacency.offsets[i]; k < adjacency.offsets[i + 1]; ++k) {
+          const std::size_t j = adjacency.neighbours[k];
+          if (!constrained[j] && !relax[j]) relax[j] = true, next_ring.push_back(j);
+        }
+      ring.swap(next_ring);
+    }
+    std::vector<std::size_t> moving;
+    for (std::size_t i = 0; i < n; ++i)
+      if (relax[i]) moving.push_back(i);
+    report.untangled_vertices += moving.size();
+    for (int sweep = 0; sweep < 30; ++sweep)
+      for (std::size_t i : moving) {
+        double x = 0, y = 0, z = 0;
+        const double deg = static_cast<double>(adjacency.offsets[i + 1] - adjacency.offsets[i]);
+        for (std::size_t k = adjacency.offsets[i]; k < adjacency.offsets[i + 1]; ++k) {
+          const Point_3& q = after[adjacency.neighbours[k]];
+          x += q.x(), y += q.y(), z += q.z();
+        }
+        after[i] = Point_3(x / deg, y / deg, z / deg);
+      }
+    flipped = bad_faces();
+    report.untangle_rounds = round + 1;
+    report.flip_rounds = round + 2;
+    report.flips_found += flipped.size();
+  }
+  report.remaining_folds = flipped.size() - report.remaining_flips;
+  report.degenerate_faces_skipped = degenerate;
+  s.set_positions(after);
+
+  report.fine_done = true;
+  report.mesh_vertex_of_network_vertex = mesh_of;
+  report.fine_seconds = internal::seconds_since(t0);
+  report.vertices = num_vertices(tm);
+  report.faces = num_faces(tm);
+  return report;
+}
+
+/// Both levels: deform_coarse then the fine level (unless the named parameter `coarse_only` is
+/// true): deform_fine_on_surface, or deform_fine with `fine_level(Fine_level::thesis)`.
 /// The report holds the figures of both. When the coarse level reverses the orientation (pairs
 /// that mirror the template), the fine level is not run: the report says so and the caller
 /// decides (the command line fails with exit status 3).
@@ -447,7 +880,9 @@ Deformation_report deform_template(TriangleMesh& tm, const Curve_network& networ
   Deformation_report coarse = deform_coarse(tm, network, pairs, np);
   if (coarse.orientation_reversed || choose_parameter(get_parameter(np, internal_np::coarse_only), false))
     return coarse;
-  Deformation_report fine = deform_fine(tm, network, pairs, np);
+  const Fine_level level = choose_parameter(get_parameter(np, internal_np::fine_level), Fine_level::surface);
+  Deformation_report fine = level == Fine_level::surface ? deform_fine_on_surface(tm, network, pairs, np)
+                                                         : deform_fine(tm, network, pairs, np);
   fine.coarse_fit = coarse.coarse_fit;
   fine.coarse_seconds = coarse.coarse_seconds;
   fine.coarse_flipped_faces = coarse.coarse_flipped_faces;

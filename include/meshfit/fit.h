@@ -117,7 +117,8 @@ std::pair<std::size_t, std::size_t> folded_and_degenerate(const TriangleMesh& tm
 /// Named parameters:
 ///   `vertex_point_map` (of `tm`);
 ///   `edge_is_constrained_map`, `face_patch_map` (outputs: curve edges, regions of the result);
-///   stage 1: `rbf_kernel`, `curve_density`, `number_of_iterations` (flip prevention rounds, 10);
+///   stage 1: `fine_level` (Fine_level::surface), `rbf_kernel`, `curve_density`,
+///   `number_of_iterations` (rounds of flip prevention or untangling, 10);
 ///   stage 3: `mean_curvature_iterations` (20), `laplacian_iterations` (80), `step_size` (1);
 ///   `check_self_intersections` (bool, default true: the most expensive check);
 ///   `progress` (called by every stage with its own stage name, and by the verification as "fit").
@@ -139,6 +140,7 @@ Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& network
   const Rbf_kernel kernel = choose_parameter(get_parameter(np, internal_np::rbf_kernel), Rbf_kernel::linear);
   const Curve_density density =
       choose_parameter(get_parameter(np, internal_np::curve_density), Curve_density::refine);
+  const Fine_level fine_level = choose_parameter(get_parameter(np, internal_np::fine_level), Fine_level::surface);
   const int rounds = choose_parameter(get_parameter(np, CGAL::internal_np::number_of_iterations), 10);
   const std::size_t mc_iterations = choose_parameter(get_parameter(np, internal_np::mean_curvature_iterations), 20);
   const std::size_t lap_iterations = choose_parameter(get_parameter(np, internal_np::laplacian_iterations), 80);
@@ -161,12 +163,11 @@ Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& network
   report.deformation = deform_template(
       work, network, pairs,
       parameters::rbf_kernel(kernel, parameters::curve_density(
-          density, parameters::progress(progress, CGAL::parameters::number_of_iterations(rounds)))));
+          density, parameters::fine_level(fine_level, parameters::progress(
+                                                          progress, CGAL::parameters::number_of_iterations(rounds))))));
   report.deform_seconds = internal::seconds_since(t);
   if (report.deformation.orientation_reversed)
-    throw Algorithm_failure("deform", "the correspondences mirror the template: the coarse level flips " +
-                                          std::to_string(report.deformation.coarse_flipped_faces) + " of " +
-                                          std::to_string(report.template_faces) + " faces");
+    throw Algorithm_failure("deform", orientation_reversal_message(report.deformation.coarse_affine_determinant));
   if (!report.deformation.dropped_network_vertices.empty())
     throw Algorithm_failure("deform", std::to_string(report.deformation.dropped_network_vertices.size()) +
                                           " network vertices have no mesh vertex of their own, so their segments "

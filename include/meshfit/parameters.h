@@ -24,6 +24,7 @@
 //   | mean_curvature_iterations | smooth_mesh's first phase       | number_of_iterations / 5 (20)  |
 //   | laplacian_iterations      | smooth_mesh's second phase      | the rest (80)                  |
 //   | check_self_intersections  | bool: fit's final verification | true                           |
+//   | fine_level        | meshfit::Fine_level (deform.h)          | Fine_level::surface            |
 // CGAL parameters meshfit reads: vertex_point_map; number_of_iterations (deform: the most flip
 // prevention rounds, default 10; smooth: the iterations); face_patch_map and
 // edge_is_constrained_map (io; smooth: curve edges); vertex_is_constrained_map (smooth).
@@ -63,6 +64,7 @@ enum reference_points_t { reference_points };
 enum mean_curvature_iterations_t { mean_curvature_iterations };
 enum laplacian_iterations_t { laplacian_iterations };
 enum check_self_intersections_t { check_self_intersections };
+enum fine_level_t { fine_level };
 }  // namespace internal_np
 
 namespace parameters {
@@ -96,6 +98,7 @@ MESHFIT_NAMED_PARAMETER(reference_points)
 MESHFIT_NAMED_PARAMETER(mean_curvature_iterations)
 MESHFIT_NAMED_PARAMETER(laplacian_iterations)
 MESHFIT_NAMED_PARAMETER(check_self_intersections)
+MESHFIT_NAMED_PARAMETER(fine_level)
 
 #undef MESHFIT_NAMED_PARAMETER
 

@@ -2,7 +2,7 @@
 //
 // Every network vertex is a mesh vertex (after stage 1). Each curve segment is made a chain of
 // mesh edges:
-//   1. a segment that is already an edge is kept;
+//   1. a segment that is already an edge, or a chain of edges lying on it, is kept;
 //   2. otherwise its projected path is walked (surface_walk.h: one cutting plane per segment,
 //      through its ends and containing their mean normal N) and the crossed faces, the clear-out
 //      region of §3.2, are re-triangulated with the segment as an edge, by edge flips: Sloan's
@@ -59,7 +59,7 @@ namespace meshfit {
 
 /// How a curve segment became a chain of mesh edges.
 enum class Segment_embedding {
-  existing_edge,  ///< it was an edge of the mesh already
+  existing_edge,  ///< it was an edge, or a chain of edges lying on it, of the mesh already
   walk,           ///< projected path and re-triangulation of the clear-out region
   fallback,       ///< shortest edge path moved onto the segment
   not_embedded    ///< neither worked without folding the mesh
@@ -618,6 +618,12 @@ inline std::vector<std::size_t> match_network_vertices(const std::vector<Point_3
 
 }  // namespace internal
 
+template <typename TriangleMesh, typename VPM, typename ECM>
+std::vector<typename boost::graph_traits<TriangleMesh>::vertex_descriptor> segment_edge_chain(
+    const TriangleMesh& tm, const VPM& vpm, const ECM& ecm,
+    typename boost::graph_traits<TriangleMesh>::vertex_descriptor a,
+    typename boost::graph_traits<TriangleMesh>::vertex_descriptor b, double tolerance);
+
 /// Makes every segment of `network` a chain of edges of `tm` (see the top of this file) and labels
 /// the regions between them. Every network vertex must be a vertex of `tm` (within the network's
 /// merge tolerance). The numbers of vertices and faces do not change; vertex positions change
@@ -654,11 +660,6 @@ Partition_report partition_mesh(TriangleMesh& tm, const Curve_network& network,
   for (std::size_t i = 0; i < p.number_of_vertices(); ++i) points.push_back(p.point(p.vertex(i)));
   Partition_report report;
   report.mesh_vertex_of_network_vertex = internal::match_network_vertices(points, network);
-  for (auto e : edges(tm)) put(ecm, e, false);
-  for (std::size_t t : report.mesh_vertex_of_network_vertex) p.fix(p.vertex(t));
-  for (auto v : vertices(tm))
-    if (get(vcm, v)) p.fix(v);
-
   const auto& segments = network.segments();
   report.segments = segments.size();
   report.how.assign(segments.size(), Segment_embedding::not_embedded);
@@ -666,8 +667,27 @@ Partition_report partition_mesh(TriangleMesh& tm, const Curve_network& network,
     return std::make_pair(p.vertex(report.mesh_vertex_of_network_vertex[segments[s][0]]),
                           p.vertex(report.mesh_vertex_of_network_vertex[segments[s][1]]));
   };
+  // A segment that is already a chain of mesh edges lying on it (as stage 1's surface fine level
+  // leaves them, or an earlier partition) is kept as it is, its inner vertices fixed.
+  for (auto e : edges(tm)) put(ecm, e, false);
+  const CGAL::Static_boolean_property_map<typename GT::edge_descriptor, true> every_edge;
+  for (std::size_t s = 0; s < segments.size(); ++s) {
+    const auto [a, b] = ends(s);
+    const auto chain = segment_edge_chain(tm, vpm, every_edge, a, b, network.tolerance());
+    if (chain.size() < 2) continue;
+    report.how[s] = Segment_embedding::existing_edge;
+    for (std::size_t k = 0; k + 1 < chain.size(); ++k) {
+      put(ecm, edge(halfedge(chain[k], chain[k + 1], tm).first, tm), true);
+      p.fix(chain[k + 1]);
+    }
+  }
+  for (std::size_t t : report.mesh_vertex_of_network_vertex) p.fix(p.vertex(t));
+  for (auto v : vertices(tm))
+    if (get(vcm, v)) p.fix(v);
+
   // Existing edges first, so that no walk crosses or flips them away.
   for (std::size_t s = 0; s < segments.size(); ++s) {
+    if (report.how[s] != Segment_embedding::not_embedded) continue;
     const auto [a, b] = ends(s);
     if (p.take_existing_edge(a, b)) report.how[s] = Segment_embedding::existing_edge;
   }

@@ -72,6 +72,13 @@ class Rbf_interpolant {
   /// `threads` threads (0: all cores), memory O(in.size() + centres). `out` may alias `in`.
   void evaluate(const std::vector<Point_3>& in, std::vector<Point_3>& out, unsigned threads = 0) const;
 
+  /// The affine term R x + t of E alone (eq. 2.7), at p.
+  Point_3 affine_part(const Point_3& p) const;
+  /// det R: negative when the affine term mirrors space, so that the interpolant maps the
+  /// template onto a mirror image of itself (the pairs reverse the orientation). Unchanged by a
+  /// rotation, translation or uniform scaling of the centres or of the values.
+  double affine_determinant() const;
+
   std::size_t number_of_centres() const { return m_cx.size(); }
   Rbf_kernel kernel() const { return m_kernel; }
 

@@ -46,7 +46,9 @@ const char* const usage_text =
     "  --curve-density D    refine (default: every network vertex gets a mesh vertex) or drop\n"
     "                       (the template keeps its size; network vertices that lose their\n"
     "                       nearest template vertex are dropped and reported)\n"
-    "  --max-rounds N       flip prevention rounds at most (default 10)\n"
+    "  --fine-level L       surface (default: embed the curves in the coarse surface, then move them into\n"
+    "                       place with a thin-plate displacement) or thesis (nearest-vertex RBF, subdivision)\n"
+    "  --max-rounds N       flip prevention (thesis) or untangling (surface) rounds at most (default 10)\n"
     "smooth options (thesis ch. 4: modified mean-curvature flow, then modified Laplacian flow):\n"
     "  --iterations N       iterations in all (default 100: a fifth mean curvature, the rest Laplacian)\n"
     "  --mc-iterations N    iterations of the modified mean-curvature flow\n"
@@ -81,7 +83,7 @@ Command_line parse(int argc, char** argv) {
   cl.command = argv[1];
   static const char* const valued[] = {"--template", "--curves", "--correspondences", "--output",
                                        "--report", "--merge-tolerance", "--kernel",
-                                       "--curve-density", "--max-rounds",
+                                       "--curve-density", "--max-rounds", "--fine-level",
                                        "--iterations", "--mc-iterations", "--laplacian-iterations", "--step"};
   for (int i = 2; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -152,6 +154,18 @@ int run_check(const Command_line& cl) {
   return success;
 }
 
+std::string json_string(const std::string& text) {
+  std::ostringstream os;
+  os << '"';
+  for (const char c : text) {
+    if (c == '"' || c == '\\') os << '\\' << c;
+    else if (static_cast<unsigned char>(c) < 0x20) os << "\\u" << std::hex << std::setw(4) << std::setfill('0') << int(c) << std::dec;
+    else os << c;
+  }
+  os << '"';
+  return os.str();
+}
+
 std::string json_number(double v) {
   if (!std::isfinite(v)) return "null";
   std::ostringstream os;
@@ -206,6 +220,7 @@ std::string json_quality(const meshfit::Mesh_data& out) {
 struct Deform_options {
   meshfit::Rbf_kernel kernel = meshfit::Rbf_kernel::linear;
   meshfit::Curve_density density = meshfit::Curve_density::refine;
+  meshfit::Fine_level fine_level = meshfit::Fine_level::surface;
   int rounds = 10;
 };
 
@@ -220,6 +235,11 @@ Deform_options deform_options(const Command_line& cl) {
     const std::string& d = cl.values.at("--curve-density");
     if (d == "drop") o.density = meshfit::Curve_density::drop;
     else if (d != "refine") throw Usage_error{"--curve-density must be refine or drop, not '" + d + "'"};
+  }
+  if (cl.values.count("--fine-level")) {
+    const std::string& f = cl.values.at("--fine-level");
+    if (f == "thesis") o.fine_level = meshfit::Fine_level::thesis;
+    else if (f != "surface") throw Usage_error{"--fine-level must be surface or thesis, not '" + f + "'"};
   }
   if (cl.values.count("--max-rounds")) {
     const std::string& r = cl.values.at("--max-rounds");
@@ -259,7 +279,7 @@ void read_fit_inputs(const Command_line& cl, Fit_inputs& in) {
 
 int run_deform(const Command_line& cl) {
   require(cl, {"--template", "--curves", "--correspondences", "--output"},
-          {"--report", "--merge-tolerance", "--kernel", "--curve-density", "--max-rounds"});
+          {"--report", "--merge-tolerance", "--kernel", "--curve-density", "--max-rounds", "--fine-level"});
   const std::string& template_path = cl.values.at("--template");
   const std::string& curves_path = cl.values.at("--curves");
   const std::string& pairs_path = cl.values.at("--correspondences");
@@ -286,9 +306,12 @@ int run_deform(const Command_line& cl) {
     r = meshfit::deform_template(
         tm, network, pairs,
         meshfit::parameters::rbf_kernel(kernel, meshfit::parameters::curve_density(
-            density, meshfit::parameters::coarse_only(cl.coarse_only, meshfit::parameters::progress(
-                progress, CGAL::parameters::number_of_iterations(rounds))))));
+            density, meshfit::parameters::fine_level(options.fine_level, meshfit::parameters::coarse_only(
+                cl.coarse_only, meshfit::parameters::progress(
+                    progress, CGAL::parameters::number_of_iterations(rounds)))))));
   } catch (const meshfit::Numerical_error& e) {
+    failure = e.what();
+  } catch (const meshfit::Algorithm_failure& e) {
     failure = e.what();
   }
   const meshfit::Mesh_data out = meshfit::to_mesh_data(tm);
@@ -299,6 +322,7 @@ int run_deform(const Command_line& cl) {
     std::ostringstream js;
     js << "{\n  \"command\": \"deform\",\n  \"meshfit_version\": \"" << MESHFIT_VERSION_STRING << "\",\n"
        << "  \"completed\": " << (failure.empty() ? "true" : "false") << ",\n"
+       << "  \"failure\": " << (failure.empty() ? "null" : json_string(failure)) << ",\n"
        << "  \"timings_s\": {\"read\": " << json_number(read_s) << ", \"coarse\": " << json_number(r.coarse_seconds)
        << ", \"fine\": " << json_number(r.fine_seconds) << "},\n"
        << "  \"counts\": {\"correspondences\": " << r.user_pairs << ", \"coarse_auxiliary_pairs\": "
@@ -318,9 +342,7 @@ int run_deform(const Command_line& cl) {
   if (!failure.empty()) throw meshfit::Algorithm_failure("deform", failure);
   if (r.orientation_reversed)
     throw meshfit::Algorithm_failure(
-        "deform", "the correspondences mirror the template: the coarse level flips " +
-                      std::to_string(r.coarse_flipped_faces) + " of " + std::to_string(out.triangles.size()) +
-                      " faces (an orientation reversal); check the pairs, or mirror the template first");
+        "deform", meshfit::orientation_reversal_message(r.coarse_affine_determinant));
   if (density == meshfit::Curve_density::refine && !r.dropped_network_vertices.empty())
     throw meshfit::Algorithm_failure(
         "deform", std::to_string(r.dropped_network_vertices.size()) +
@@ -332,8 +354,8 @@ int run_deform(const Command_line& cl) {
                       " rounds of flip prevention (raise --max-rounds, or give more correspondences so that the "
                       "coarse level brings the template closer to the curves)");
   if (!quiet && r.coarse_flipped_faces > 0)
-    std::cerr << "meshfit: deform: warning: the coarse level flips " << r.coarse_flipped_faces
-              << " faces; the fine level does not unflip them (more or better-spread pairs help)\n";
+    std::cerr << "meshfit: deform: warning: the coarse level turns " << r.coarse_flipped_faces
+              << " faces over relative to its affine part (more or better-spread pairs help)\n";
   write_output(cl, out, inputs, report_path);
   return success;
 }
@@ -509,6 +531,7 @@ int run_smooth(const Command_line& cl) {
     std::ostringstream js;
     js << "{\n  \"command\": \"smooth\",\n  \"meshfit_version\": \"" << MESHFIT_VERSION_STRING << "\",\n"
        << "  \"completed\": " << (failure.empty() ? "true" : "false") << ",\n"
+       << "  \"failure\": " << (failure.empty() ? "null" : json_string(failure)) << ",\n"
        << "  \"timings_s\": {\"read\": " << json_number(read_s) << ", \"smooth\": " << json_number(r.seconds) << "},\n"
        << "  \"counts\": {\"iterations\": " << r.iterations << ", \"mean_curvature_iterations\": " << mc
        << ", \"laplacian_iterations\": " << lap << ", \"fixed_vertices\": " << r.fixed_vertices
@@ -539,7 +562,7 @@ int run_smooth(const Command_line& cl) {
 
 int run_fit(const Command_line& cl) {
   require(cl, {"--template", "--curves", "--correspondences", "--output"},
-          {"--report", "--merge-tolerance", "--kernel", "--curve-density", "--max-rounds", "--iterations",
+          {"--report", "--merge-tolerance", "--kernel", "--curve-density", "--max-rounds", "--fine-level", "--iterations",
            "--mc-iterations", "--laplacian-iterations", "--step"});
   if (cl.coarse_only) throw Usage_error{"meshfit fit does not take --coarse-only (use meshfit deform)"};
   const std::vector<std::string> inputs{cl.values.at("--template"), cl.values.at("--curves"),
@@ -557,15 +580,17 @@ int run_fit(const Command_line& cl) {
   try {
     r = meshfit::fit_template_to_curves(
         in.tm, in.network, in.pairs,
-        meshfit::parameters::rbf_kernel(d.kernel, meshfit::parameters::curve_density(
+        meshfit::parameters::rbf_kernel(d.kernel, meshfit::parameters::fine_level(d.fine_level, meshfit::parameters::curve_density(
             d.density, meshfit::parameters::mean_curvature_iterations(
                 so.mean_curvature_iterations, meshfit::parameters::laplacian_iterations(
                     so.laplacian_iterations, meshfit::parameters::step_size(
                         so.step, meshfit::parameters::check_self_intersections(
                             !cl.no_self_intersection_check, meshfit::parameters::progress(
                                 progress_printer(cl.quiet), CGAL::parameters::number_of_iterations(d.rounds)
-                                    .edge_is_constrained_map(curve).face_patch_map(region)))))))));
+                                    .edge_is_constrained_map(curve).face_patch_map(region))))))))));
   } catch (const meshfit::Numerical_error& e) {
+    failure = e.what();
+  } catch (const meshfit::Algorithm_failure& e) {
     failure = e.what();
   }
   const meshfit::Mesh_data out =
@@ -579,6 +604,7 @@ int run_fit(const Command_line& cl) {
   std::ostringstream js;
   js << "{\n  \"command\": \"fit\",\n  \"meshfit_version\": \"" << MESHFIT_VERSION_STRING << "\",\n"
      << "  \"completed\": " << (failure.empty() ? "true" : "false") << ",\n"
+     << "  \"failure\": " << (failure.empty() ? "null" : json_string(failure)) << ",\n"
      << "  \"verified\": " << (failure.empty() && problems.empty() ? "true" : "false") << ",\n"
      << "  \"timings_s\": {\"read\": " << json_number(in.read_seconds) << ", \"deform\": " << json_number(r.deform_seconds)
      << ", \"partition\": " << json_number(r.partition_seconds) << ", \"smooth\": " << json_number(r.smooth_seconds)

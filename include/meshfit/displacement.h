@@ -1,0 +1,49 @@
+// meshfit: smooth displacement fields on a mesh with some vertices' displacements given (the
+// linear variational deformation of Botsch & Sorkine 2008, "On linear variational surface
+// deformation methods", §3: the displacement d minimises the membrane energy ∫‖∇d‖² (order 1,
+// Δd = 0 on the free vertices) or the thin-plate energy ∫‖Δd‖² (order 2, Δ²d = 0), with the given
+// vertices as hard constraints).
+//
+// The Laplacian is the uniform (graph) one, Δd_i = mean of d_j over the neighbours j of i, minus
+// d_i: its weights are positive on every mesh, so the membrane solution is a convex combination
+// of the given displacements at every free vertex (a discrete maximum principle) and cannot
+// overshoot them. The sparse system on the free vertices is solved by Eigen's sparse Cholesky
+// (SimplicialLDLT); its size grows like the mesh, not like the number of constraints.
+#ifndef MESHFIT_DISPLACEMENT_H
+#define MESHFIT_DISPLACEMENT_H
+
+#include <meshfit/kernel.h>
+
+#include <cstddef>
+#include <vector>
+
+namespace meshfit {
+
+/// A mesh's vertex adjacency in compressed rows: the neighbours of vertex i are
+/// `neighbours[offsets[i]] … neighbours[offsets[i + 1] - 1]`.
+struct Vertex_adjacency {
+  std::vector<std::size_t> offsets{0};
+  std::vector<std::size_t> neighbours;
+  std::size_t size() const { return offsets.size() - 1; }
+};
+
+/// What a displacement solve did.
+struct Displacement_report {
+  std::size_t free_vertices = 0, constrained_vertices = 0;
+  std::size_t nonzeros = 0;  ///< of the factored matrix
+  /// Free vertices in a connected part of the mesh with no constrained vertex: they keep a zero
+  /// displacement.
+  std::size_t unconstrained_free_vertices = 0;
+};
+
+/// The displacement of every vertex: `given[i]` where `constrained[i]`, and the minimiser of the
+/// membrane (order 1) or thin-plate (order 2) energy elsewhere (see the top of this file).
+/// \throws Invalid_input when the sizes differ, `order` is not 1 or 2, or a given displacement is
+///         not finite; Numerical_error when the factorisation fails.
+std::vector<Vector_3> interpolate_displacements(const Vertex_adjacency& adjacency, const std::vector<bool>& constrained,
+                                                const std::vector<Vector_3>& given, int order = 2,
+                                                Displacement_report* report = nullptr);
+
+}  // namespace meshfit
+
+#endif  // MESHFIT_DISPLACEMENT_H

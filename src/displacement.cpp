@@ -1,0 +1,121 @@
+#include <meshfit/displacement.h>
+#include <meshfit/exceptions.h>
+
+#include "fp_traps.h"
+
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+
+#include <cmath>
+#include <string>
+
+namespace meshfit {
+
+std::vector<Vector_3> interpolate_displacements(const Vertex_adjacency& adj, const std::vector<bool>& constrained,
+                                                const std::vector<Vector_3>& given, int order,
+                                                Displacement_report* report) {
+  internal::Fp_trap_scope traps;
+  const std::size_t n = adj.size();
+  if (constrained.size() != n || given.size() != n)
+    throw Invalid_input("displacement: " + std::to_string(n) + " vertices but " + std::to_string(constrained.size()) +
+                        " constraint flags and " + std::to_string(given.size()) + " displacements");
+  if (order != 1 && order != 2) throw Invalid_input("displacement: order must be 1 or 2, not " + std::to_string(order));
+  for (std::size_t i = 0; i < n; ++i)
+    if (constrained[i] && !(std::isfinite(given[i].x()) && std::isfinite(given[i].y()) && std::isfinite(given[i].z())))
+      throw Invalid_input("displacement: the displacement of vertex " + std::to_string(i) + " is not finite");
+
+  // Connected parts with no constrained vertex keep a zero displacement: they are held, which
+  // also keeps the system definite.
+  std::vector<bool> held = constrained;
+  std::vector<Vector_3> d(n, Vector_3(0, 0, 0));
+  for (std::size_t i = 0; i < n; ++i)
+    if (constrained[i]) d[i] = given[i];
+  Displacement_report r;
+  {
+    std::vector<std::size_t> part(n, SIZE_MAX), stack, members;
+    for (std::size_t s = 0; s < n; ++s) {
+      if (part[s] != SIZE_MAX) continue;
+      bool any = false;
+      members.clear();
+      stack.assign(1, s);
+      part[s] = s;
+      while (!stack.empty()) {
+        const std::size_t v = stack.back();
+        stack.pop_back();
+        members.push_back(v);
+        any = any || constrained[v];
+        for (std::size_t k = adj.offsets[v]; k < adj.offsets[v + 1]; ++k) {
+          const std::size_t w = adj.neighbours[k];
+          if (part[w] == SIZE_MAX) part[w] = s, stack.push_back(w);
+        }
+      }
+      if (!any)
+        for (std::size_t v : members) held[v] = true, ++r.unconstrained_free_vertices;
+    }
+  }
+  std::vector<std::ptrdiff_t> free_index(n, -1);
+  std::ptrdiff_t nf = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    if (!held[i]) free_index[i] = nf++;
+  r.free_vertices = static_cast<std::size_t>(nf);
+  r.constrained_vertices = n - r.free_vertices - r.unconstrained_free_vertices;
+  if (nf == 0) {
+    if (report) *report = r;
+    return d;
+  }
+
+  // K = D − A, the symmetric graph Laplacian; the membrane energy is dᵀK d, the thin-plate one
+  // dᵀ K D⁻¹ K d (the squared uniform Laplacian D⁻¹K d weighted by the degree).
+  using Sparse = Eigen::SparseMatrix<double>;
+  std::vector<Eigen::Triplet<double>> t;
+  t.reserve(n + adj.neighbours.size());
+  Eigen::VectorXd inverse_degree(static_cast<Eigen::Index>(n));
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t deg = adj.offsets[i + 1] - adj.offsets[i];
+    const auto ii = static_cast<Eigen::Index>(i);
+    inverse_degree(ii) = deg > 0 ? 1.0 / static_cast<double>(deg) : 0.0;
+    t.emplace_back(ii, ii, static_cast<double>(deg));
+    for (std::size_t k = adj.offsets[i]; k < adj.offsets[i + 1]; ++k)
+      t.emplace_back(ii, static_cast<Eigen::Index>(adj.neighbours[k]), -1.0);
+  }
+  const auto N = static_cast<Eigen::Index>(n);
+  Sparse K(N, N);
+  K.setFromTriplets(t.begin(), t.end());
+  Sparse Q = order == 1 ? K : Sparse(K * inverse_degree.asDiagonal() * K);
+
+  // Q_FF x_F = −Q_FC d_C.
+  std::vector<Eigen::Triplet<double>> qf;
+  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(nf, 3);
+  for (Eigen::Index c = 0; c < Q.outerSize(); ++c)
+    for (Sparse::InnerIterator it(Q, c); it; ++it) {
+      const std::ptrdiff_t row = free_index[static_cast<std::size_t>(it.row())];
+      if (row < 0) continue;
+      const std::ptrdiff_t col = free_index[static_cast<std::size_t>(it.col())];
+      if (col >= 0) {
+        qf.emplace_back(row, col, it.value());
+      } else {
+        const Vector_3& g = d[static_cast<std::size_t>(it.col())];
+        rhs(row, 0) -= it.value() * g.x();
+        rhs(row, 1) -= it.value() * g.y();
+        rhs(row, 2) -= it.value() * g.z();
+      }
+    }
+  Sparse A(nf, nf);
+  A.setFromTriplets(qf.begin(), qf.end());
+  Eigen::SimplicialLDLT<Sparse> solver;
+  solver.compute(A);
+  if (solver.info() != Eigen::Success)
+    throw Numerical_error("displacement: the sparse Cholesky factorisation of the " + std::to_string(nf) + "×" +
+                          std::to_string(nf) + " system failed");
+  const Eigen::MatrixXd x = solver.solve(rhs);
+  if (solver.info() != Eigen::Success || !x.allFinite())
+    throw Numerical_error("displacement: the sparse solve of the " + std::to_string(nf) + "×" + std::to_string(nf) +
+                          " system failed or gave a non-finite value");
+  r.nonzeros = static_cast<std::size_t>(A.nonZeros());
+  for (std::size_t i = 0; i < n; ++i)
+    if (free_index[i] >= 0) d[i] = Vector_3(x(free_index[i], 0), x(free_index[i], 1), x(free_index[i], 2));
+  if (report) *report = r;
+  return d;
+}
+
+}  // namespace meshfit
