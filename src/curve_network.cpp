@@ -3,7 +3,11 @@
 #include "text_parser.h"
 #include "write_file.h"
 
+#include <boost/graph/adjacency_list.hpp>
+#include <boost/graph/boyer_myrvold_planar_test.hpp>
+
 #include <algorithm>
+#include <iterator>
 #include <cmath>
 #include <numeric>
 #include <ostream>
@@ -183,6 +187,41 @@ std::size_t Curve_network::number_of_closed_polylines() const {
   return static_cast<std::size_t>(std::count_if(
       m_polylines.begin(), m_polylines.end(),
       [](const std::vector<std::size_t>& p) { return p.size() > 2 && p.front() == p.back(); }));
+}
+
+std::vector<std::size_t> Curve_network::non_planar_segments() const {
+  using Graph = boost::adjacency_list<boost::vecS, boost::vecS, boost::undirectedS, boost::no_property,
+                                      boost::property<boost::edge_index_t, std::size_t>>;
+  Graph g(m_points.size());
+  for (std::size_t k = 0; k < m_segments.size(); ++k) boost::add_edge(m_segments[k][0], m_segments[k][1], k, g);
+  std::vector<boost::graph_traits<Graph>::edge_descriptor> kuratowski;
+  if (boost::boyer_myrvold_planarity_test(boost::boyer_myrvold_params::graph = g,
+                                          boost::boyer_myrvold_params::kuratowski_subgraph =
+                                              std::back_inserter(kuratowski)))
+    return {};
+  std::vector<std::size_t> out;
+  for (const auto& e : kuratowski) out.push_back(boost::get(boost::edge_index, g, e));
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+std::vector<std::size_t> Curve_network::polylines_of_segments(const std::vector<std::size_t>& segments) const {
+  std::vector<std::size_t> out;
+  for (std::size_t k = 0; k < m_polylines.size(); ++k) {
+    const auto& pl = m_polylines[k];
+    bool hit = false;
+    for (std::size_t i = 0; i + 1 < pl.size() && !hit; ++i)
+      for (std::size_t s : segments) {
+        const Segment& sg = m_segments[s];
+        if ((sg[0] == pl[i] && sg[1] == pl[i + 1]) || (sg[1] == pl[i] && sg[0] == pl[i + 1])) {
+          hit = true;
+          break;
+        }
+      }
+    if (hit) out.push_back(k);
+  }
+  return out;
 }
 
 std::size_t Curve_network::number_of_independent_cycles() const {

@@ -66,6 +66,12 @@ class Curve_network {
   std::size_t number_of_independent_cycles() const;
 
   std::size_t number_of_components() const { return m_number_of_components; }
+  /// Empty when the network graph is planar (it can be drawn on a sphere or a disc without
+  /// crossings); else the segments of a Kuratowski subgraph (a subdivision of K5 or K3,3) that
+  /// proves it is not (Boyer–Myrvold, Boost.Graph).
+  std::vector<std::size_t> non_planar_segments() const;
+  /// The input polylines (0-based, in input order) that contain any of `segments`.
+  std::vector<std::size_t> polylines_of_segments(const std::vector<std::size_t>& segments) const;
   /// Component of vertex `v`, numbered from 0 in order of their lowest vertex.
   std::size_t component(std::size_t v) const { return m_component.at(v); }
 

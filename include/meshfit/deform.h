@@ -31,13 +31,18 @@
 #include <CGAL/Dynamic_property_map.h>
 #include <CGAL/Named_function_parameters.h>
 #include <CGAL/Polygon_mesh_processing/compute_normal.h>
+#include <CGAL/Polygon_mesh_processing/connected_components.h>
+#include <CGAL/box_intersection_d.h>
 #include <CGAL/boost/graph/Euler_operations.h>
 #include <CGAL/boost/graph/helpers.h>
 #include <CGAL/boost/graph/named_params_helper.h>
 
 #include <algorithm>
 #include <chrono>
+#include <deque>
 #include <map>
+#include <queue>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -93,13 +98,18 @@ struct Deformation_report {
   Fine_level fine_level = Fine_level::surface;
   // Fine_level::surface
   double largest_projection_distance = 0;   ///< from a network vertex to the coarse surface
+  /// Network vertices whose surface point, tracked along the curves, is not the nearest point of
+  /// the whole coarse surface (internal::tracked_projections).
+  std::size_t projections_off_nearest = 0;
   std::size_t segments_embedded = 0;        ///< as edge chains of the coarse surface
+  std::size_t segments_by_shortest_path = 0;  ///< of those, where stage 2's insertion could not
   std::vector<std::size_t> segments_not_embedded;  ///< indices into network.segments()
   Partition_report embedding;               ///< the insertion on the coarse surface
   Displacement_report displacement;
   std::size_t untangle_rounds = 0;          ///< rounds of local relaxation where faces flipped
   std::size_t untangled_vertices = 0;       ///< free vertices relaxed, over all rounds
   std::size_t remaining_folds = 0;          ///< faces beside an edge folded by the fine level, at the end
+  std::size_t edges_flipped = 0;            ///< to repair bad faces whose corners are all held
   double fine_seconds = 0;
   // result
   std::size_t vertices = 0, faces = 0;
@@ -284,6 +294,130 @@ struct Deform_state {
     return Vector_3(n.x(), n.y(), n.z());
   }
 };
+
+/// Connected, and of genus 0 (a sphere, a disc, a sphere with holes): χ + (boundary cycles) = 2.
+/// Then the number of border cycles, else nothing.
+template <typename TriangleMesh>
+std::optional<std::size_t> genus_zero_border_cycles(const TriangleMesh& tm) {
+  auto component = get(CGAL::dynamic_face_property_t<std::size_t>(), tm);
+  if (num_faces(tm) == 0 || CGAL::Polygon_mesh_processing::connected_components(tm, component) != 1) return {};
+  std::size_t cycles = 0;
+  auto seen = get(CGAL::dynamic_halfedge_property_t<bool>(), tm);
+  for (auto h : halfedges(tm)) put(seen, h, false);
+  for (auto h : halfedges(tm)) {
+    if (!is_border(h, tm) || get(seen, h)) continue;
+    ++cycles;
+    for (auto g : CGAL::halfedges_around_face(h, tm)) put(seen, g, true);
+  }
+  const long chi = static_cast<long>(num_vertices(tm)) - static_cast<long>(num_edges(tm)) + static_cast<long>(num_faces(tm));
+  if (chi + static_cast<long>(cycles) != 2) return {};
+  return cycles;
+}
+
+/// "polyline 3" or "polylines 1, 4, 7" (1-based, in file order), at most ten named.
+inline std::string name_polylines(const std::vector<std::size_t>& polylines) {
+  std::ostringstream os;
+  os << (polylines.size() == 1 ? "polyline " : "polylines ");
+  for (std::size_t k = 0; k < polylines.size() && k < 10; ++k) os << (k ? ", " : "") << polylines[k] + 1;
+  if (polylines.size() > 10) os << " and " << polylines.size() - 10 << " more";
+  return os.str();
+}
+
+/// The surface point of each network vertex, tracked along the curves: from the user's pairs
+/// (their template vertices), each neighbour along a segment takes the nearest point of the
+/// faces within reach of its predecessor's point (a face walk out to twice the segment's length
+/// plus the predecessor's distance to the surface), not the nearest point of the whole surface,
+/// which on thin parts (a trunk beside a body, two sides of an ear) can lie on another part. A
+/// component of the network with no pair starts from its vertex nearest to the surface. Returns
+/// the points; `global_jumps` counts the vertices whose tracked point differs from the nearest
+/// point of the whole surface.
+template <typename TriangleMesh, typename VPM, typename Tree>
+std::vector<Point_3> tracked_projections(const TriangleMesh& tm, const VPM& vpm, const Tree& tree,
+                                         const Curve_network& network, const std::vector<Correspondence>& pairs,
+                                         std::size_t& global_jumps) {
+  using GT = boost::graph_traits<TriangleMesh>;
+  using face_descriptor = typename GT::face_descriptor;
+  const std::size_t nv = network.number_of_vertices();
+  std::vector<Point_3> q(nv);
+  std::vector<face_descriptor> face_of(nv, GT::null_face());
+  std::vector<bool> known(nv, false);
+  std::deque<std::size_t> queue;
+  auto triangle = [&](face_descriptor f) {
+    const auto h = halfedge(f, tm);
+    return Kernel::Triangle_3(point_of<TriangleMesh>(vpm, source(h, tm)), point_of<TriangleMesh>(vpm, target(h, tm)),
+                              point_of<TriangleMesh>(vpm, target(next(h, tm), tm)));
+  };
+  for (const Correspondence& c : pairs) {
+    if (known[c.network_vertex]) continue;
+    auto v = *std::next(vertices(tm).first, static_cast<std::ptrdiff_t>(c.template_vertex));
+    for (auto h : CGAL::halfedges_around_target(halfedge(v, tm), tm))
+      if (!is_border(h, tm)) face_of[c.network_vertex] = face(h, tm);
+    q[c.network_vertex] = point_of<TriangleMesh>(vpm, v);
+    known[c.network_vertex] = true;
+    queue.push_back(c.network_vertex);
+  }
+  global_jumps = 0;
+  std::vector<bool> component_seeded(network.number_of_components(), false);
+  for (std::size_t v : queue) component_seeded[network.component(v)] = true;
+  std::vector<std::size_t> seed_of(network.number_of_components(), SIZE_MAX);
+  std::vector<double> seed_distance(network.number_of_components(), std::numeric_limits<double>::infinity());
+  for (std::size_t v = 0; v < nv; ++v) {
+    const std::size_t c = network.component(v);
+    if (component_seeded[c]) continue;
+    const double d = CGAL::squared_distance(tree.closest_point(network.point(v)), network.point(v));
+    if (d < seed_distance[c]) seed_distance[c] = d, seed_of[c] = v;
+  }
+  for (std::size_t c = 0; c < seed_of.size(); ++c) {
+    if (seed_of[c] == SIZE_MAX) continue;
+    const auto hit = tree.closest_point_and_primitive(network.point(seed_of[c]));
+    q[seed_of[c]] = Point_3(hit.first.x(), hit.first.y(), hit.first.z());
+    face_of[seed_of[c]] = hit.second;
+    known[seed_of[c]] = true;
+    queue.push_back(seed_of[c]);
+  }
+  auto seen = get(CGAL::dynamic_face_property_t<std::size_t>(), tm);
+  for (auto f : faces(tm)) put(seen, f, SIZE_MAX);
+  std::size_t search = 0;
+  const std::size_t face_budget = std::max<std::size_t>(num_faces(tm) / 4, 2000);
+  while (!queue.empty()) {
+    const std::size_t v = queue.front();
+    queue.pop_front();
+    for (std::size_t k : network.incident_segments(v)) {
+      const auto& sg = network.segments()[k];
+      const std::size_t w = sg[0] == v ? sg[1] : sg[0];
+      if (known[w]) continue;
+      const Point_3& p = network.point(w);
+      const double reach = 2 * std::sqrt(CGAL::squared_distance(network.point(v), p)) +
+                           std::sqrt(CGAL::squared_distance(network.point(v), q[v]));
+      ++search;
+      double best = std::numeric_limits<double>::infinity();
+      face_descriptor best_face = GT::null_face();
+      std::vector<face_descriptor> stack{face_of[v]};
+      put(seen, face_of[v], search);
+      std::size_t visited = 0;
+      while (!stack.empty() && visited < face_budget) {
+        const face_descriptor f = stack.back();
+        stack.pop_back();
+        ++visited;
+        const auto t = triangle(f);
+        const double d = CGAL::squared_distance(t, p);
+        if (d < best) best = d, best_face = f;
+        for (auto h : CGAL::halfedges_around_face(halfedge(f, tm), tm)) {
+          const auto g = opposite(h, tm);
+          if (is_border(g, tm) || get(seen, face(g, tm)) == search) continue;
+          put(seen, face(g, tm), search);
+          if (CGAL::squared_distance(triangle(face(g, tm)), q[v]) <= reach * reach) stack.push_back(face(g, tm));
+        }
+      }
+      q[w] = Kernel().construct_projected_point_3_object()(triangle(best_face), p);
+      face_of[w] = best_face;
+      known[w] = true;
+      if (q[w] != tree.closest_point(p)) ++global_jumps;
+      queue.push_back(w);
+    }
+  }
+  return q;
+}
 
 inline void check_pairs(const std::vector<Correspondence>& pairs, std::size_t template_vertices,
                         std::size_t template_faces, const Curve_network& network) {
@@ -554,6 +688,16 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
   auto vpm = internal::vertex_point_map_of(tm, np);
   internal::Deform_state<TriangleMesh, decltype(vpm)> s(tm, vpm);
   internal::check_pairs(pairs, s.vertex.size(), num_faces(tm), network);
+  // A network that is not planar cannot be drawn on a genus-0 template without crossings.
+  if (internal::genus_zero_border_cycles(tm)) {
+    const std::vector<std::size_t> kuratowski = network.non_planar_segments();
+    if (!kuratowski.empty())
+      throw Algorithm_failure(
+          "deform", "the curve network is not planar: " + internal::name_polylines(network.polylines_of_segments(kuratowski)) +
+                        " (in file order) form a subdivision of K5 or K3,3, which cannot be drawn on this genus-0 "
+                        "template without two curves crossing; curves that cross must share a vertex (a point written "
+                        "identically in both polylines), or the template needs a handle");
+  }
   Deformation_report report;
   report.fine_level = Fine_level::surface;
   report.user_pairs = pairs.size();
@@ -581,9 +725,11 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
   using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
   const std::size_t template_vertices = s.vertex.size();
   std::vector<double> distance(nv, 0);
+  std::vector<Point_3> surface_point;
   {
     Tree tree(faces(tm).first, faces(tm).second, tm, vpm);
     tree.accelerate_distance_queries();
+    surface_point = internal::tracked_projections(tm, vpm, tree, network, pairs, report.projections_off_nearest);
     // A polyline all of whose points are far from the surface cannot be embedded in it: say so
     // now, rather than after a long run.
     Bbox_3 box;
@@ -602,10 +748,7 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
     }
     if (!far.empty()) {
       std::ostringstream os;
-      os << (far.size() == 1 ? "polyline " : "polylines ");
-      for (std::size_t k = 0; k < far.size() && k < 10; ++k) os << (k ? ", " : "") << far[k] + 1;
-      if (far.size() > 10) os << ", …";
-      os << " (in file order) lie" << (far.size() == 1 ? "s" : "")
+      os << internal::name_polylines(far) << " (in file order) lie" << (far.size() == 1 ? "s" : "")
          << " far from the template after the coarse level (every point farther than a tenth of its size): "
             "give a correspondence on "
          << (far.size() == 1 ? "it" : "them") << ", or remove " << (far.size() == 1 ? "it" : "them");
@@ -664,7 +807,7 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
     std::map<typename GT::face_descriptor, std::pair<std::size_t, Point_3>> at;
     std::vector<std::size_t> later;
     for (std::size_t v : waiting) {
-      const auto hit = tree.closest_point_and_primitive(network.point(v));
+      const auto hit = tree.closest_point_and_primitive(surface_point[v]);
       if (!at.emplace(hit.second, std::make_pair(v, Point_3(hit.first.x(), hit.first.y(), hit.first.z()))).second)
         later.push_back(v);
     }
@@ -678,6 +821,48 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
   }
   report.vertices_inserted_for_density = s.vertex.size() - template_vertices;
   report.faces_subdivided = s.faces_split;
+
+  // Curves that cross without a shared vertex cannot both be edge chains: two segments with no
+  // common end whose surface images cross in the view along the surface normal there (exact
+  // orientations in that view) while the segments themselves nearly meet in space.
+  {
+    using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::size_t>;
+    const auto& segs = network.segments();
+    std::vector<Box> boxes;
+    for (std::size_t k = 0; k < segs.size(); ++k)
+      boxes.emplace_back(s.to_point(s.vertex[mesh_of[segs[k][0]]]).bbox() + s.to_point(s.vertex[mesh_of[segs[k][1]]]).bbox(), k);
+    std::vector<std::pair<std::size_t, std::size_t>> crossing;
+    CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& x, const Box& y) {
+      const auto& p = segs[x.info()];
+      const auto& q = segs[y.info()];
+      if (p[0] == q[0] || p[0] == q[1] || p[1] == q[0] || p[1] == q[1]) return;
+      const Point_3 a = s.to_point(s.vertex[mesh_of[p[0]]]), b = s.to_point(s.vertex[mesh_of[p[1]]]),
+                    c = s.to_point(s.vertex[mesh_of[q[0]]]), d = s.to_point(s.vertex[mesh_of[q[1]]]);
+      const Segment_3 sp(network.point(p[0]), network.point(p[1])), sq(network.point(q[0]), network.point(q[1]));
+      const double reach = 0.1 * std::sqrt(std::max(sp.squared_length(), sq.squared_length()));
+      if (!(CGAL::squared_distance(sp, sq) < reach * reach)) return;
+      const Vector_3 N = s.normal(mesh_of[p[0]]) + s.normal(mesh_of[p[1]]) + s.normal(mesh_of[q[0]]) + s.normal(mesh_of[q[1]]);
+      if (N == CGAL::NULL_VECTOR) return;
+      const Vector_3 u = CGAL::cross_product(N, std::abs(N.x()) < std::abs(N.y()) ? Vector_3(1, 0, 0) : Vector_3(0, 1, 0));
+      const Triangle_points view{a, a + u, a + CGAL::cross_product(N, u)};
+      const auto side = [&](const Point_3& e, const Point_3& f, const Point_3& g) { return orientation_in_plane(view, e, f, g); };
+      const CGAL::Sign c1 = side(a, b, c), c2 = side(a, b, d), c3 = side(c, d, a), c4 = side(c, d, b);
+      if (c1 != CGAL::ZERO && c2 != CGAL::ZERO && c3 != CGAL::ZERO && c4 != CGAL::ZERO && c1 != c2 && c3 != c4)
+        crossing.emplace_back(std::min(x.info(), y.info()), std::max(x.info(), y.info()));
+    });
+    if (!crossing.empty()) {
+      std::sort(crossing.begin(), crossing.end());
+      const auto [p, q] = crossing.front();
+      const Point_3 m = CGAL::midpoint(network.point(segs[p][0]), network.point(segs[p][1]));
+      std::ostringstream os;
+      os.precision(6);
+      os << crossing.size() << " pair" << (crossing.size() == 1 ? "" : "s")
+         << " of segments cross without a shared vertex; the first: "
+         << internal::name_polylines(network.polylines_of_segments({p, q})) << " (in file order) cross near (" << m
+         << "): curves that cross must share a vertex there (the same point written in both polylines)";
+      throw Algorithm_failure("deform", os.str());
+    }
+  }
 
   // 2. The network as projected, embedded in the surface.
   internal::report_progress(progress, "deform", "fine: embedding the curves in the coarse surface", 1, 4);
@@ -744,37 +929,101 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
       default_merge_tolerance * std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
                                           CGAL::square(box.zmax() - box.zmin()));
 
+  // Each segment's chain: its boundary arc, or the chain stage 2 made of it. Where stage 2 could
+  // not make one (its insertion refuses to fold the surface, and its fallback moves vertices onto
+  // the chord, which may lie off the surface), the shortest edge path from one end to the other
+  // that crosses no chain (through no chain vertex nor curve edge) is taken as it is: only its
+  // topology matters here, since step 3 moves its vertices onto the segment anyway.
+  const auto& segments = network.segments();
+  std::vector<std::vector<typename GT::vertex_descriptor>> chain_of(segments.size());
+  std::vector<bool> on_chain = is_network_vertex;
+  on_chain.resize(s.vertex.size(), false);
+  std::vector<std::size_t> missing;
+  for (std::size_t k = 0; k < segments.size(); ++k) {
+    chain_of[k] = !arc[k].empty() ? arc[k]
+                                  : segment_edge_chain(tm, vpm, curve, s.vertex[mesh_of[segments[k][0]]],
+                                                       s.vertex[mesh_of[segments[k][1]]], chain_tolerance);
+    if (chain_of[k].size() < 2) missing.push_back(k);
+    for (std::size_t i = 0; i + 1 < chain_of[k].size(); ++i) {
+      put(curve, edge(halfedge(chain_of[k][i], chain_of[k][i + 1], tm).first, tm), true);
+      on_chain[get(s.index, chain_of[k][i])] = true;
+    }
+  }
+  for (std::size_t k : missing) {
+    const auto A = s.vertex[mesh_of[segments[k][0]]], B = s.vertex[mesh_of[segments[k][1]]];
+    const Segment_3 chord(s.to_point(A), s.to_point(B));
+    std::vector<double> dist(s.vertex.size(), std::numeric_limits<double>::infinity());
+    std::vector<std::size_t> from(s.vertex.size(), unassigned);
+    using Item = std::pair<double, std::size_t>;
+    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+    const std::size_t ia = get(s.index, A), ib = get(s.index, B);
+    dist[ia] = 0;
+    queue.emplace(0.0, ia);
+    while (!queue.empty()) {
+      const auto [du, u] = queue.top();
+      queue.pop();
+      if (du > dist[u]) continue;
+      if (u == ib) break;
+      if (u != ia && on_chain[u]) continue;
+      for (auto h : CGAL::halfedges_around_target(halfedge(s.vertex[u], tm), tm)) {
+        if (get(curve, edge(h, tm))) continue;
+        const std::size_t w = get(s.index, source(h, tm));
+        if (w != ib && on_chain[w]) continue;
+        const Point_3 pw = s.to_point(s.vertex[w]);
+        const double dw = du + std::sqrt(CGAL::squared_distance(s.to_point(s.vertex[u]), pw)) +
+                          2 * std::sqrt(CGAL::squared_distance(chord, pw));
+        if (dw < dist[w]) dist[w] = dw, from[w] = u, queue.emplace(dw, w);
+      }
+    }
+    if (from[ib] == unassigned) continue;
+    std::vector<typename GT::vertex_descriptor> path;
+    for (std::size_t u = ib; u != unassigned; u = from[u]) path.push_back(s.vertex[u]);
+    std::reverse(path.begin(), path.end());
+    for (std::size_t i = 0; i + 1 < path.size(); ++i) {
+      put(curve, edge(halfedge(path[i], path[i + 1], tm).first, tm), true);
+      on_chain[get(s.index, path[i])] = true;
+    }
+    arc[k] = path;  // placed by arc length below, as boundary arcs are
+    chain_of[k] = std::move(path);
+    ++report.segments_by_shortest_path;
+  }
+
   // 3. Targets: network vertices at their points, chain vertices on their segments.
   internal::report_progress(progress, "deform", "fine: moving the curves into place (thin-plate displacement)", 2, 4);
   const std::vector<Point_3> before = s.positions();
   const std::size_t n = before.size();
   std::vector<bool> constrained(n, false);
-  std::vector<Point_3> target(n);
+  std::vector<Point_3> goal(n);
   for (std::size_t v = 0; v < nv; ++v) {
     constrained[mesh_of[v]] = true;
-    target[mesh_of[v]] = network.point(v);
+    goal[mesh_of[v]] = network.point(v);
   }
-  for (std::size_t k = 0; k < network.segments().size(); ++k) {
-    const auto [a, b] = network.segments()[k];
+  for (std::size_t k = 0; k < segments.size(); ++k) {
+    const auto [a, b] = segments[k];
     const auto A = s.vertex[mesh_of[a]], B = s.vertex[mesh_of[b]];
-    const auto chain = arc[k].empty() ? segment_edge_chain(tm, vpm, curve, A, B, chain_tolerance) : arc[k];
+    const auto& chain = chain_of[k];
     if (chain.size() < 2) {
       report.segments_not_embedded.push_back(k);
       continue;
     }
     ++report.segments_embedded;
     // Where each inner vertex goes along the segment: its parameter along the projected segment,
-    // or along the arc for a boundary arc.
+    // or by arc length along a boundary arc or a shortest path.
     const Point_3 pa = s.to_point(A);
     const Vector_3 d = s.to_point(B) - pa;
-    std::vector<double> arc_length{0};
-    for (std::size_t i = 1; i < chain.size(); ++i)
+    // (A path's projections onto the segment are used when they advance strictly inside it.)
+    std::vector<double> along{0}, arc_length{0};
+    for (std::size_t i = 1; i < chain.size(); ++i) {
+      along.push_back(i + 1 < chain.size() ? ((s.to_point(chain[i]) - pa) * d) / d.squared_length() : 1.0);
       arc_length.push_back(arc_length.back() + std::sqrt(CGAL::squared_distance(s.to_point(chain[i - 1]), s.to_point(chain[i]))));
+    }
+    for (double& t : arc_length) t /= arc_length.back();
+    const bool advancing = std::is_sorted(along.begin(), along.end(), std::less_equal<double>());
     for (std::size_t i = 1; i + 1 < chain.size(); ++i) {
       const std::size_t c = get(s.index, chain[i]);
-      const double t = arc[k].empty() ? ((before[c] - pa) * d) / d.squared_length() : arc_length[i] / arc_length.back();
+      const double t = arc[k].empty() || advancing ? along[i] : arc_length[i];
       constrained[c] = true;
-      target[c] = network.point(a) + t * (network.point(b) - network.point(a));
+      goal[c] = network.point(a) + t * (network.point(b) - network.point(a));
     }
   }
   Vertex_adjacency adjacency;
@@ -786,10 +1035,10 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
   }
   std::vector<Vector_3> given(n, Vector_3(0, 0, 0));
   for (std::size_t i = 0; i < n; ++i)
-    if (constrained[i]) given[i] = target[i] - before[i];
+    if (constrained[i]) given[i] = goal[i] - before[i];
   const std::vector<Vector_3> d = interpolate_displacements(adjacency, constrained, given, 2, &report.displacement);
   std::vector<Point_3> after(n);
-  for (std::size_t i = 0; i < n; ++i) after[i] = constrained[i] ? target[i] : before[i] + d[i];
+  for (std::size_t i = 0; i < n; ++i) after[i] = constrained[i] ? goal[i] : before[i] + d[i];
   report.fine_pairs = static_cast<std::size_t>(std::count(constrained.begin(), constrained.end(), true));
 
   // 4. Untangling: relax the free vertices around faces that turned over, in growing rings.
@@ -820,13 +1069,18 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
   auto flipped = bad_faces();
   report.flips_found = flipped.size();
   report.flip_rounds = 1;
+  // Relaxation pulls vertices towards their neighbours' mean, which also shrinks what it relaxes:
+  // rings grow only a little, and the best state seen is kept.
+  std::vector<Point_3> best = after;
+  std::size_t best_bad = flipped.size();
+  constexpr std::size_t max_rings = 3;
   for (std::size_t round = 0; !flipped.empty() && round < max_rounds; ++round) {
     std::vector<bool> relax(n, false);
     std::vector<std::size_t> ring;
     for (auto f : flipped)
       for (std::size_t c : s.corners(f))
         if (!constrained[c] && !relax[c]) relax[c] = true, ring.push_back(c);
-    for (std::size_t grow = 0; grow <= round; ++grow) {
+    for (std::size_t grow = 0; grow < std::min(round + 1, max_rings); ++grow) {
       std::vector<std::size_t> next_ring;
       for (std::size_t i : ring)
         for (std::size_t k = adjacency.offsets[i]; k < adjacency.offsets[i + 1]; ++k) {
@@ -853,6 +1107,44 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
     report.untangle_rounds = round + 1;
     report.flip_rounds = round + 2;
     report.flips_found += flipped.size();
+    if (flipped.size() < best_bad) best = after, best_bad = flipped.size();
+  }
+  if (flipped.size() > best_bad) {
+    after = std::move(best);
+    flipped = bad_faces();
+  }
+  // A bad face all of whose corners are held (chain vertices of two curves and the network
+  // vertex between them, say) cannot be relaxed; flipping one of its edges that is not a curve
+  // edge can repair it when both new faces are good (the face and vertex counts are kept).
+  auto good = [&](std::size_t a, std::size_t b, std::size_t c) {
+    const Vector_3 N = reference_normal[a] + reference_normal[b] + reference_normal[c];
+    return CGAL::orientation(after[a], after[b], after[c], after[a] + N) == CGAL::POSITIVE;
+  };
+  for (int pass = 0; pass < 3 && !flipped.empty(); ++pass) {
+    bool changed = false;
+    for (auto f : flipped) {
+      const auto c = s.corners(f);
+      if (!(constrained[c[0]] && constrained[c[1]] && constrained[c[2]])) continue;
+      for (auto h : CGAL::halfedges_around_face(halfedge(f, tm), tm)) {
+        const auto g = opposite(h, tm);
+        if (get(curve, edge(h, tm)) || is_border(g, tm)) continue;
+        const auto u = source(h, tm), v = target(h, tm), x = target(next(h, tm), tm), y = target(next(g, tm), tm);
+        if (halfedge(x, y, tm).second) continue;
+        const std::size_t iu = get(s.index, u), iv = get(s.index, v), ix = get(s.index, x), iy = get(s.index, y);
+        if (!good(iu, iy, ix) || !good(iy, iv, ix)) continue;
+        const Triangle_points first{after[iu], after[iy], after[ix]};
+        if (orientation_in_plane(first, after[iy], after[iv], after[ix]) != CGAL::POSITIVE) continue;
+        CGAL::Euler::flip_edge(h, tm);
+        changed = true;
+        break;
+      }
+      if (changed) break;  // faces changed: find the bad ones again
+    }
+    if (!changed) break;
+    ++report.edges_flipped;
+    flipped = bad_faces();
+    pass = -1;  // keep going while flips repair something
+    if (report.edges_flipped > num_faces(tm)) break;
   }
   report.remaining_folds = flipped.size() - report.remaining_flips;
   report.degenerate_faces_skipped = degenerate;
@@ -887,6 +1179,7 @@ Deformation_report deform_template(TriangleMesh& tm, const Curve_network& networ
   fine.coarse_seconds = coarse.coarse_seconds;
   fine.coarse_flipped_faces = coarse.coarse_flipped_faces;
   fine.orientation_reversed = coarse.orientation_reversed;
+  fine.coarse_affine_determinant = coarse.coarse_affine_determinant;
   return fine;
 }
 

@@ -17,10 +17,12 @@
 #include <meshfit/partition.h>
 #include <meshfit/smooth.h>
 
+#include <CGAL/Polygon_mesh_processing/connected_components.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -42,6 +44,12 @@ struct Fit_verification {
   bool self_intersects = false, template_self_intersects = false;
   bool self_intersection_checked = false;
   std::size_t non_finite_coordinates = 0;
+  /// Regions of the partition, and how many the network bounds on the result's surface when that
+  /// is determined by its topology (expected_regions_known): on a connected genus-0 surface,
+  /// E − V + 1 + C for a network of V vertices, E segments and C components (Euler's formula),
+  /// one less on a disc whose boundary is all curve edges (the outer face is not on the mesh).
+  std::size_t regions = 0, expected_regions = 0;
+  bool expected_regions_known = false;
 
   /// What is wrong, one sentence each; empty when everything holds.
   std::vector<std::string> problems() const {
@@ -57,6 +65,8 @@ struct Fit_verification {
       p.push_back(n(folded_edges) + " folded edges (the template has " + n(template_folded_edges) + ")");
     if (self_intersects && !template_self_intersects) p.push_back("the result intersects itself (the template does not)");
     if (non_finite_coordinates) p.push_back(n(non_finite_coordinates) + " non-finite coordinates");
+    if (expected_regions_known && regions != expected_regions)
+      p.push_back(n(regions) + " regions where the network bounds " + n(expected_regions));
     return p;
   }
   bool passed() const { return problems().empty(); }
@@ -97,6 +107,21 @@ std::pair<std::size_t, std::size_t> folded_and_degenerate(const TriangleMesh& tm
     if (orientation_in_plane(a, b[0], b[1], b[2]) != CGAL::POSITIVE) ++folded;
   }
   return {folded, degenerate};
+}
+
+/// The number of regions `network` bounds on `tm` once every segment is a chain of the edges
+/// `curve`, when the topology of `tm` determines it (connected, genus 0, closed or a disc; see
+/// Fit_verification::expected_regions); empty otherwise.
+template <typename TriangleMesh, typename ECM>
+std::optional<std::size_t> expected_regions(const TriangleMesh& tm, const Curve_network& network, const ECM& curve) {
+  const auto cycles = genus_zero_border_cycles(tm);
+  if (!cycles || *cycles > 1) return {};
+  bool border_is_curve = true;
+  for (auto h : halfedges(tm))
+    if (is_border(h, tm)) border_is_curve = border_is_curve && get(curve, edge(h, tm));
+  const std::size_t planar_faces =
+      network.number_of_segments() + 1 + network.number_of_components() - network.number_of_vertices();
+  return *cycles == 1 && border_is_curve ? planar_faces - 1 : planar_faces;
 }
 
 }  // namespace internal
@@ -216,6 +241,11 @@ Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& network
     if (segment_edge_chain(work, wvpm, curve, a, b, tolerance).size() < 2) ++v.segments_not_chains;
   }
   v.flips_remaining = report.deformation.remaining_flips;
+  v.regions = report.partition.regions;
+  if (const auto expected = internal::expected_regions(work, network, curve)) {
+    v.expected_regions_known = true;
+    v.expected_regions = *expected;
+  }
   std::tie(v.folded_edges, v.degenerate_faces) = internal::folded_and_degenerate(work, wvpm);
   v.template_folded_edges = internal::folded_and_degenerate(tm, vpm).first;
   for (auto w : vertices(work)) {

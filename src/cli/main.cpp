@@ -210,6 +210,21 @@ meshfit::Progress_callback progress_printer(bool quiet) {
   };
 }
 
+/// The fine level's own figures, the same block in the reports of deform and fit.
+std::string json_fine_level(const meshfit::Deformation_report& r) {
+  std::ostringstream js;
+  js << "{\"method\": \"" << meshfit::to_string(r.fine_level) << "\"";
+  if (r.fine_level == meshfit::Fine_level::surface)
+    js << ", \"largest_projection_distance\": " << json_number(r.largest_projection_distance)
+       << ", \"segments_embedded\": " << r.segments_embedded << ", \"segments_not_embedded\": "
+       << r.segments_not_embedded.size() << ", \"segments_by_shortest_path\": " << r.segments_by_shortest_path
+       << ", \"projections_off_nearest\": " << r.projections_off_nearest << ", \"displacement_free_vertices\": " << r.displacement.free_vertices
+       << ", \"untangle_rounds\": " << r.untangle_rounds << ", \"untangled_vertices\": " << r.untangled_vertices
+       << ", \"remaining_folds\": " << r.remaining_folds;
+  js << ", \"coarse_affine_determinant\": " << json_number(r.coarse_affine_determinant) << "}";
+  return js.str();
+}
+
 std::string json_quality(const meshfit::Mesh_data& out) {
   std::ostringstream js;
   js << "{\"vertices\": " << out.points.size() << ", \"faces\": " << out.triangles.size()
@@ -334,6 +349,7 @@ int run_deform(const Command_line& cl) {
        << ", \"vertices_inserted_for_flips\": " << r.vertices_inserted_for_flips
        << ", \"network_vertices\": " << network.number_of_vertices() << ", \"network_vertices_embedded\": " << embedded
        << ", \"network_vertices_dropped\": " << r.dropped_network_vertices.size() << "},\n"
+       << "  \"fine_level\": " << json_fine_level(r) << ",\n"
        << "  \"residuals\": {\"coarse\": " << json_number(r.coarse_fit.relative_residual) << ", \"fine\": "
        << json_number(r.fine_fit.relative_residual) << "},\n"
        << "  \"quality\": " << json_quality(out) << "\n}\n";
@@ -621,6 +637,7 @@ int run_fit(const Command_line& cl) {
      << ", \"vertices_moved_onto_segments\": " << pr.vertices_moved << ", \"regions\": " << pr.regions
      << ", \"smoothing_iterations\": " << sr.iterations << ", \"vertices_fixed_in_smoothing\": " << sr.fixed_vertices
      << "},\n"
+     << "  \"fine_level\": " << json_fine_level(dr) << ",\n"
      << "  \"verification\": {\"network_vertices_missing\": " << v.network_vertices_missing
      << ", \"segments_not_chains\": " << v.segments_not_chains << ", \"flips_remaining\": " << v.flips_remaining
      << ", \"degenerate_faces\": " << v.degenerate_faces << ", \"folded_edges\": " << v.folded_edges
@@ -628,7 +645,9 @@ int run_fit(const Command_line& cl) {
      << ", \"self_intersection_checked\": " << (v.self_intersection_checked ? "true" : "false")
      << ", \"self_intersects\": " << (v.self_intersects ? "true" : "false")
      << ", \"template_self_intersects\": " << (v.template_self_intersects ? "true" : "false")
-     << ", \"non_finite_coordinates\": " << v.non_finite_coordinates << ", \"problems\": [";
+     << ", \"non_finite_coordinates\": " << v.non_finite_coordinates << ", \"regions\": " << v.regions
+     << ", \"expected_regions\": " << (v.expected_regions_known ? std::to_string(v.expected_regions) : "null")
+     << ", \"problems\": [";
   for (std::size_t i = 0; i < problems.size(); ++i) js << (i ? ", " : "") << "\"" << problems[i] << "\"";
   js << "]},\n"
      << "  \"quality\": {\"template_vertices\": " << r.template_vertices << ", \"template_faces\": " << r.template_faces
