@@ -1247,6 +1247,53 @@ void write_case_txt(const fs::path& dir, const Case& c, const std::string& varia
     << "note " << c.note << "\n";
 }
 
+// A known answer for the scorer: an icosphere whose network runs along its own edges (the 30
+// subdivided edges of the icosahedron, 20 regions). The template itself must pass; the same mesh
+// with the positions of two vertices of one face swapped must show an inverted face.
+void write_selftest(const fs::path& out) {
+  const Mesh tmpl = icosphere(4);
+  const Mesh base = icosphere(0);
+  std::vector<Polyline> curves;
+  for (ed e : base.edges()) {
+    const V3 a = vec(base.point(base.vertex(e, 0))), b = vec(base.point(base.vertex(e, 1)));
+    const V3 n = unit(CGAL::cross_product(a, b));
+    const double ang = std::acos(a * b);
+    std::vector<std::pair<double, P>> on;
+    for (vd v : tmpl.vertices()) {
+      const V3 p = vec(tmpl.point(v));
+      if (std::abs(p * n) > 1e-9) continue;
+      const double ta = std::acos(std::clamp(p * a, -1.0, 1.0)), tb = std::acos(std::clamp(p * b, -1.0, 1.0));
+      if (std::abs(ta + tb - ang) < 1e-9) on.push_back({ta, tmpl.point(v)});
+    }
+    std::sort(on.begin(), on.end(), [](auto& x, auto& y) { return x.first < y.first; });
+    Polyline pl;
+    for (auto& q : on) pl.push_back(q.second);
+    curves.push_back(pl);
+  }
+  Case c;
+  c.name = "selftest";
+  c.family = "scorer self-test";
+  c.tmpl = tmpl;
+  c.truth = radial_truth(sphere_r);
+  c.curves = curves;
+  c.expected_regions = genus0_regions(curves, {}, 0);
+  c.regions_note = "E - V + 1 + C: the icosahedron's 20 faces";
+  c.note = "network along the template's own edges";
+  const fs::path d = out / "selftest";
+  fs::create_directories(d);
+  write_off(d / "template.off", c.tmpl);
+  write_off(d / "truth.off", c.truth);
+  write_curves(d / "curves.polylines.txt", c.curves, c.note);
+  write_pairs(d / "pairs.txt", {});
+  write_case_txt(d, c, "", c.name);
+  Mesh swapped = tmpl;
+  const fd f0 = *swapped.faces().begin();
+  const hd h = swapped.halfedge(f0);
+  const vd b = swapped.target(h), cc = swapped.target(swapped.next(h));
+  std::swap(swapped.point(b), swapped.point(cc));
+  write_off(d / "swapped.off", swapped);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -1265,6 +1312,7 @@ int main(int argc, char** argv) {
     impossible_family(bat);
     real_family(bat, meshes);
     open_family(bat, meshes);
+    write_selftest(out);
     std::ofstream list(out / "cases.txt");
     list << "# name quick base variant\n";
     for (size_t i = 0; i < bat.cases.size(); ++i) {
