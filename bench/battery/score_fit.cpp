@@ -20,6 +20,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <iostream>
 #include <map>
@@ -200,6 +201,8 @@ int main(int argc, char** argv) {
       if (status != 3) why.push_back(status == 124 ? "timeout" : "exit " + std::to_string(status) + " (want 3)");
       if (seconds > 5.0) why.push_back("took > 5 s");
       if (msg.find_first_not_of(" \n\t") == std::string::npos) why.push_back("no message");
+      // A list of defects after a full run is not a reason (issue 11, item 4).
+      else if (status == 3 && msg.find("verification") != std::string::npos) why.push_back("exit 3 from verification, not a reason");
       std::string verdict = "pass";
       if (!why.empty()) {
         verdict = "FAIL (";
@@ -324,6 +327,12 @@ int main(int argc, char** argv) {
     otree.accelerate_distance_queries();
     for (vd v : truth.vertices()) h2 = std::max(h2, otree.squared_distance(truth.point(v)));
     const double hausdorff = 100.0 * std::sqrt(std::max(h1, h2)) / diagonal(tb);
+    if (std::getenv("SCORE_FIT_DETAIL"))
+      std::cerr << "score_fit: " << label << ": output->truth " << 100.0 * std::sqrt(h1) / diagonal(tb)
+                << " %, truth->output " << 100.0 * std::sqrt(h2) / diagonal(tb) << " %, template folds " << folds_tmpl
+                << ", output folds " << folds_out << ", template self-intersections " << si_tmpl << ", output "
+                << si_out << ", zero-area faces " << degenerate << ", output vertices " << out.number_of_vertices()
+                << "\n";
 
     // angles
     std::vector<double> angles;
