@@ -152,7 +152,7 @@ Rbf_interpolant Rbf_interpolant::fit(const std::vector<Point_3>& centres_in,
   // Coplanar (exactly or nearly): add auxiliary pairs off the plane (thesis §2.2). Centre c_i
   // offset by h_c·n (n the centres' plane normal, turned to the side of the given normals) maps to
   // value v_i offset by h_v·σ·e, where e is the direction along which the values are thinnest,
-  // h_c and h_v a tenth of each side's bounding-box diagonal, and σ the sign that makes the best
+  // h_c and h_v a fifth of each side's radius about its centroid, and σ the sign that makes the best
   // affine map of the plane onto the values keep its orientation (det[m_1, m_2, σe] > 0). Every
   // quantity is taken from its own side, so the auxiliary pairs turn, move and scale with the
   // template and with the network independently: the fit does not depend on where either is.
@@ -192,7 +192,14 @@ Rbf_interpolant Rbf_interpolant::fit(const std::vector<Point_3>& centres_in,
     const Eigen::MatrixXd M = A.colPivHouseholderQr().solve(B);  // rows: m_1, m_2, offset
     const Vector_3 m1(M(0, 0), M(0, 1), M(0, 2)), m2(M(1, 0), M(1, 1), M(1, 2));
     const double sigma = CGAL::cross_product(m1, m2) * e < 0 ? -1.0 : 1.0;
-    const double hc = 0.1 * centre_diag, hv = 0.1 * (value_diag0 > 0 ? value_diag0 : centre_diag);
+    // Sizes that do not change when either side turns (a bounding box's diagonal does).
+    auto radius = [](const std::vector<Point_3>& pts, const Vector_3& centre) {
+      double r = 0;
+      for (const Point_3& p : pts) r = std::max(r, std::sqrt((p - CGAL::ORIGIN - centre).squared_length()));
+      return r;
+    };
+    const double rc = radius(centres, centre_shift), rv = radius(values, value_shift0);
+    const double hc = 0.2 * rc, hv = 0.2 * (rv > 0 ? rv : rc);
     for (std::size_t i = 0; i < n0; ++i) {
       centres.push_back(centres[i] + hc * n);
       values.push_back(values[i] + (hv * sigma) * e);

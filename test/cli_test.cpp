@@ -7,6 +7,9 @@
 
 #include <sys/wait.h>
 
+#include <chrono>
+#include <fstream>
+
 using namespace meshfit_test;
 
 namespace {
@@ -116,7 +119,7 @@ TEST_CASE("cli: deform writes the deformed mesh and a report", "[cli][deform]") 
     CHECK(meshfit::read_mesh_data(dir.file("c.off")).points.size() == 2562);
   }
   SECTION("flips left after the allowed rounds: status 3, report written, no output") {
-    const Run_result r = run(dir, "deform --max-rounds 1" + inputs + " --output " + q(dir.file("f.off")) + " --report " + q(dir.file("f.json")));
+    const Run_result r = run(dir, "deform --fine-level thesis --max-rounds 1" + inputs + " --output " + q(dir.file("f.off")) + " --report " + q(dir.file("f.json")));
     CHECK(r.status == 3);
     CHECK(r.err.find("deform: ") != std::string::npos);
     CHECK(r.err.find("still flip") != std::string::npos);
@@ -302,6 +305,34 @@ TEST_CASE("cli: fit runs the whole pipeline on the embedded example", "[cli][fit
     for (const auto& c : meshfit::read_correspondences(d + "/pairs.txt", network))
       CHECK(m.points[c.template_vertex] == network.point(c.network_vertex));
   }
+  SECTION("either fine level; the report says which and how many regions the network bounds") {
+    for (const std::string level : {"surface", "thesis"}) {
+      const Run_result r = run(dir, "fit --quiet --fine-level " + level + inputs + " --output " + q(dir.file("l.off")) +
+                                        " --report " + q(dir.file("l.json")));
+      INFO(level << ": " << r.err);
+      CHECK(r.status == 0);
+      const std::string json = read_text(dir.file("l.json"));
+      CHECK(json.find("\"method\": \"" + level + "\"") != std::string::npos);
+      CHECK(json.find("\"expected_regions\": 12") != std::string::npos);
+      CHECK(json.find("\"failure\": null") != std::string::npos);
+    }
+    CHECK(run(dir, "fit --quiet --fine-level best" + inputs + " --output " + q(dir.file("l.off"))).status == 2);
+  }
+  SECTION("a polyline far from the template: status 3 at once, the reason in the message and the report") {
+    std::string curves = read_text(d + "/curves.polylines.txt") + "3 1000 0 0 1000 1 0 1000 1 1\n";
+    std::ofstream(dir.file("far.polylines.txt")) << curves;
+    const auto start = std::chrono::steady_clock::now();
+    const Run_result r = run(dir, "fit --template " + q(d + "/template.off") + " --curves " + q(dir.file("far.polylines.txt")) +
+                                      " --correspondences " + q(d + "/pairs.txt") + " --output " + q(dir.file("far.off")) +
+                                      " --report " + q(dir.file("far.json")));
+    CHECK(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() < 5);
+    CHECK(r.status == 3);
+    CHECK(r.err.find("polyline 5 (in file order) lies far from the template") != std::string::npos);
+    CHECK_FALSE(std::filesystem::exists(dir.file("far.off")));
+    const std::string json = read_text(dir.file("far.json"));
+    CHECK(json.find("\"completed\": false") != std::string::npos);
+    CHECK(json.find("far from the template") != std::string::npos);
+  }
   SECTION("to OBJ and OFF, quietly") {
     CHECK(run(dir, "fit --quiet" + inputs + " --output " + q(dir.file("fit.obj"))).status == 0);
     CHECK(read_text(dir.file("fit.obj")).find("g region_11") != std::string::npos);
@@ -315,13 +346,13 @@ TEST_CASE("cli: fit runs the whole pipeline on the embedded example", "[cli][fit
     CHECK(run(dir, "fit" + inputs).status == 2);
   }
   SECTION("the algorithm cannot complete: status 3, report written, no output") {
-    const Run_result r = run(dir, "fit --max-rounds 1" + inputs + " --output " + q(dir.file("f.ply")) + " --report " + q(dir.file("f.json")));
+    const Run_result r = run(dir, "fit --fine-level thesis --max-rounds 1" + inputs + " --output " + q(dir.file("f.ply")) + " --report " + q(dir.file("f.json")));
     CHECK(r.status == 3);
     CHECK(r.err.find("failed verification") != std::string::npos);
     CHECK(r.err.find("flipped in the deformation") != std::string::npos);
     CHECK_FALSE(std::filesystem::exists(dir.file("f.ply")));
     CHECK(read_text(dir.file("f.json")).find("\"verified\": false") != std::string::npos);
-    const Run_result kept = run(dir, "fit --quiet --allow-defects --max-rounds 1" + inputs + " --output " + q(dir.file("k.ply")));
+    const Run_result kept = run(dir, "fit --quiet --allow-defects --fine-level thesis --max-rounds 1" + inputs + " --output " + q(dir.file("k.ply")));
     CHECK(kept.status == 0);
     CHECK(std::filesystem::exists(dir.file("k.ply")));
   }

@@ -46,6 +46,13 @@ TEST_CASE("correspondence: network points all coplanar are rejected", "[correspo
   }, 0, "network points of the 4 correspondences are all coplanar");
 }
 
+TEST_CASE("correspondence: pairs coplanar on both sides are accepted (auxiliary pairs)", "[correspondence]") {
+  const meshfit::Curve_network flat = meshfit::parse_curve_network("5 0 0 0 1 0 0 1 1 0 0 1 0 0 0 0\n", "c");
+  // Template vertices 0..3 lie in z = 0, and so do these network points.
+  const auto pairs = meshfit::parse_correspondences("0 0 0 0\n1 1 0 0\n2 1 1 0\n3 0 1 0\n", "p", flat);
+  CHECK_NOTHROW(meshfit::validate_correspondences(pairs, template_points(), flat, true));
+}
+
 TEST_CASE("correspondence: write then read gives the same pairs", "[correspondence]") {
   Temp_dir dir;
   const auto pairs = meshfit::parse_correspondences(valid_pairs(), "p", network());

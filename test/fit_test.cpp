@@ -44,6 +44,8 @@ TEST_CASE("fit: the embedded example is fitted, partitioned into 12 regions and 
   CHECK(r.verification.passed());
   CHECK(stages == std::vector<std::string>{"deform", "partition", "smooth", "fit"});
   CHECK(r.partition.regions == 12);
+  CHECK(r.verification.expected_regions_known);
+  CHECK(r.verification.expected_regions == 12);
   CHECK(r.partition.not_embedded.empty());
   CHECK(r.verification.folded_edges == 0);
   CHECK(r.faces == in.tm.number_of_faces());

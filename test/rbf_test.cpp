@@ -96,6 +96,27 @@ TEST_CASE("rbf: results are invariant under translation by 1e8 and scaling by 1e
   }
 }
 
+TEST_CASE("rbf: the affine part's determinant tells a rotation from a mirror", "[rbf]") {
+  const std::vector<Point_3> c = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 1}, {0.3, 0.8, 0.1}};
+  auto rotate = [](const Point_3& p, double a) {  // about z by a, then about x by a / 2
+    const double x = std::cos(a) * p.x() - std::sin(a) * p.y(), y = std::sin(a) * p.x() + std::cos(a) * p.y();
+    const double b = a / 2;
+    return Point_3(x, std::cos(b) * y - std::sin(b) * p.z(), std::sin(b) * y + std::cos(b) * p.z());
+  };
+  for (double a : {0.0, 1.0, 2.0, 3.14159265358979, 4.0, 6.0}) {
+    std::vector<Point_3> v, mirrored;
+    for (const auto& p : c) {
+      v.push_back(rotate(p, a));
+      mirrored.push_back(Point_3(-v.back().x(), v.back().y(), v.back().z()));
+    }
+    INFO("angle " << a);
+    const Rbf_interpolant E = Rbf_interpolant::fit(c, v);
+    CHECK(E.affine_determinant() > 0);
+    CHECK(std::sqrt(CGAL::squared_distance(E.affine_part(c[4]), v[4])) < 1e-9);  // the map is a rotation
+    CHECK(Rbf_interpolant::fit(c, mirrored).affine_determinant() < 0);
+  }
+}
+
 TEST_CASE("rbf: degenerate pair sets give their documented outcomes", "[rbf]") {
   using meshfit_test::require_invalid;
   const std::vector<Point_3> square = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0.5, 0.5, 0}};
@@ -108,10 +129,30 @@ TEST_CASE("rbf: degenerate pair sets give their documented outcomes", "[rbf]") {
                                                    std::vector<Vector_3>(5, Vector_3(0, 0, 1)), &r);
     CHECK(r.auxiliary_pairs == 5);
     for (std::size_t i = 0; i < square.size(); ++i) CHECK(std::sqrt(CGAL::squared_distance(E(square[i]), lifted[i])) < 1e-12);
-    // Off the plane, points move as the plane does, offset along the normal.
+    // Off the plane, a point moves as the plane does, offset along the values' own normal e
+    // (the normal of the plane z = 0.1 x, turned so that the map keeps its orientation), scaled
+    // from the centres' size (h_c) to the values' (h_v).
     const Point_3 above = E(Point_3(0.5, 0.5, 0.1));
-    CHECK(std::isfinite(above.z()));
-    CHECK(above.z() == Approx(0.2 * 0.5 + 0.1).margin(1e-9));
+    const double hc = 0.1 * std::sqrt(2.0), hv = 0.1 * std::sqrt(4 + 1 + 0.04);
+    const Vector_3 e = Vector_3(-0.1, 0, 1) / std::sqrt(1.01);
+    const Point_3 expected = Point_3(1, 1.5, 0.1) + (0.1 * hv / hc) * e;
+    CHECK(std::sqrt(CGAL::squared_distance(above, expected)) < 1e-9);
+    CHECK(E.affine_determinant() > 0);
+  }
+  SECTION("coplanar pairs give the same interpolant whatever the placement of the centres") {
+    // The square turned by 180 degrees about an oblique axis, then moved and scaled: E' o T = E.
+    const Vector_3 axis = Vector_3(0.3, 1, 0.2) / std::sqrt(0.09 + 1 + 0.04);
+    auto turn = [&](const Vector_3& v) { return 2 * (v * axis) * axis - v; };  // rotation by pi
+    auto T = [&](const Point_3& p) { return Point_3(1e3, -7, 2) + 1e-2 * turn(p - CGAL::ORIGIN); };
+    std::vector<Point_3> moved;
+    for (const auto& p : square) moved.push_back(T(p));
+    const Rbf_interpolant E = Rbf_interpolant::fit(square, lifted, Rbf_kernel::linear,
+                                                   std::vector<Vector_3>(5, Vector_3(0, 0, 1)));
+    const Rbf_interpolant F = Rbf_interpolant::fit(moved, lifted, Rbf_kernel::linear,
+                                                   std::vector<Vector_3>(5, turn(Vector_3(0, 0, 1))));
+    for (const Point_3& p : {Point_3(0.5, 0.5, 0.1), Point_3(0.2, 0.9, -0.3), Point_3(2, -1, 0.5)})
+      CHECK(std::sqrt(CGAL::squared_distance(E(p), F(T(p)))) < 1e-9);
+    CHECK(F.affine_determinant() > 0);
   }
   SECTION("coplanar centres without normals use the plane's normal") {
     meshfit::Rbf_fit_report r;

@@ -682,8 +682,12 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
   const std::size_t max_rounds =
       static_cast<std::size_t>(choose_parameter(get_parameter(np, CGAL::internal_np::number_of_iterations), 10));
   const auto progress = get_parameter(np, internal_np::progress);
+  // Stage 2's progress during the embedding is reported as this stage's.
   Progress_callback forward = [](const Progress_step&) { return true; };
-  if constexpr (!std::is_same_v<decltype(progress), const CGAL::internal_np::Param_not_found>) forward = progress;
+  if constexpr (!std::is_same_v<decltype(progress), const CGAL::internal_np::Param_not_found>)
+    forward = [&progress](const Progress_step& step) {
+      return progress(Progress_step{"deform", "fine: embedding the curves: " + step.step, 1, 4});
+    };
 
   auto vpm = internal::vertex_point_map_of(tm, np);
   internal::Deform_state<TriangleMesh, decltype(vpm)> s(tm, vpm);
@@ -839,7 +843,9 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
       const Point_3 a = s.to_point(s.vertex[mesh_of[p[0]]]), b = s.to_point(s.vertex[mesh_of[p[1]]]),
                     c = s.to_point(s.vertex[mesh_of[q[0]]]), d = s.to_point(s.vertex[mesh_of[q[1]]]);
       const Segment_3 sp(network.point(p[0]), network.point(p[1])), sq(network.point(q[0]), network.point(q[1]));
-      const double reach = 0.1 * std::sqrt(std::max(sp.squared_length(), sq.squared_length()));
+      // Near in space (a hundredth of the longer segment): curves that pass each other at a distance
+      // are not refused on the strength of their projections alone.
+      const double reach = 0.01 * std::sqrt(std::max(sp.squared_length(), sq.squared_length()));
       if (!(CGAL::squared_distance(sp, sq) < reach * reach)) return;
       const Vector_3 N = s.normal(mesh_of[p[0]]) + s.normal(mesh_of[p[1]]) + s.normal(mesh_of[q[0]]) + s.normal(mesh_of[q[1]]);
       if (N == CGAL::NULL_VECTOR) return;
@@ -901,6 +907,12 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
     for (std::size_t i = 1; i + 1 < arc[k].size(); ++i) put(fixed, arc[k][i], true);
   }
 
+  // Normals of the coarse surface (its faces only split so far, no shape changed): what "turned
+  // over" is judged against in step 4. Stage 2's insertion may leave faces standing on edge where
+  // a curve runs through a template vertex; their own normals would not be a reference.
+  std::vector<Vector_3> reference_normal(s.vertex.size());
+  for (std::size_t i = 0; i < s.vertex.size(); ++i) reference_normal[i] = s.normal(i);
+
   // The network as projected, but for the boundary segments, embedded by stage 2's insertion.
   std::vector<Curve_network::Polyline> lines;
   for (std::size_t k = 0; k < network.segments().size(); ++k)
@@ -917,9 +929,16 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
     if (projected.number_of_vertices() != static_cast<std::size_t>(std::count(used.begin(), used.end(), true)))
       throw Algorithm_failure("deform", "network vertices land on the surface where others do: the curves are "
                                         "denser than the template can hold there (refine the template)");
-    report.embedding = partition_mesh(
-        tm, projected,
-        parameters::progress(forward, CGAL::parameters::edge_is_constrained_map(curve).vertex_is_constrained_map(fixed)));
+    try {
+      report.embedding = partition_mesh(
+          tm, projected,
+          parameters::progress(forward, CGAL::parameters::edge_is_constrained_map(curve).vertex_is_constrained_map(fixed)));
+    } catch (const Invalid_input& e) {
+      // Stage 2 finds network vertices by position: two of them placed nearer to each other than
+      // to any other mesh vertex cannot be told apart.
+      throw Algorithm_failure("deform", std::string("the curves are denser than the template can hold (") + e.what() +
+                                            "): use a finer template, or sparser curves");
+    }
   }
   // Chain vertices lie on their (projected) segments within rounding: the default merge
   // tolerance of the mesh's size.
@@ -943,6 +962,13 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
     chain_of[k] = !arc[k].empty() ? arc[k]
                                   : segment_edge_chain(tm, vpm, curve, s.vertex[mesh_of[segments[k][0]]],
                                                        s.vertex[mesh_of[segments[k][1]]], chain_tolerance);
+    // A chain through another network vertex (three of them in a line on the projected surface)
+    // would give that vertex two places: such a segment takes the shortest path instead.
+    for (std::size_t i = 1; i + 1 < chain_of[k].size(); ++i)
+      if (is_network_vertex[get(s.index, chain_of[k][i])]) {
+        chain_of[k].clear();
+        break;
+      }
     if (chain_of[k].size() < 2) missing.push_back(k);
     for (std::size_t i = 0; i + 1 < chain_of[k].size(); ++i) {
       put(curve, edge(halfedge(chain_of[k][i], chain_of[k][i + 1], tm).first, tm), true);
@@ -1044,15 +1070,13 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
   // 4. Untangling: relax the free vertices around faces that turned over, in growing rings.
   internal::report_progress(progress, "deform", "fine: relaxing where faces turned over", 3, 4);
   // Bad faces: those turned over against step 2's surface, and those beside an edge that folds
-  // now and did not fold there. "Turned over" is judged against the surface's vertex normals
-  // (the sign of the face's orientation with the point a + N above its corner a, N the sum of
-  // its corners' normals on step 2's surface, an exact predicate): a face's own plane on that
-  // surface may stand on edge where a curve runs through a template vertex, and a flip test in
-  // that plane would call the repair of such a face a flip.
+  // now and did not fold there. "Turned over" is judged against the coarse surface's vertex
+  // normals (the sign of the face's orientation with the point a + N above its corner a, N the
+  // sum of its corners' normals, an exact predicate), not in the face's own plane on step 2's
+  // surface, which may stand on edge: a flip test there would call the repair of such a face a
+  // flip.
   std::vector<bool> folded_before;
   s.folded_faces(before, &folded_before);
-  std::vector<Vector_3> reference_normal(n);
-  for (std::size_t i = 0; i < n; ++i) reference_normal[i] = s.normal(i);
   std::size_t degenerate = 0;
   auto bad_faces = [&] {
     std::vector<typename GT::face_descriptor> bad;
@@ -1150,6 +1174,10 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
   report.degenerate_faces_skipped = degenerate;
   s.set_positions(after);
 
+  for (std::size_t v = 0; v < nv; ++v)
+    if (s.to_point(s.vertex[mesh_of[v]]) != network.point(v))
+      throw Numerical_error("deform: network vertex " + std::to_string(v) + " did not end at its point (mesh vertex " +
+                            std::to_string(mesh_of[v]) + ", " + std::to_string(std::count(mesh_of.begin(), mesh_of.end(), mesh_of[v])) + " network vertices on it)");
   report.fine_done = true;
   report.mesh_vertex_of_network_vertex = mesh_of;
   report.fine_seconds = internal::seconds_since(t0);

@@ -1,0 +1,95 @@
+#include <meshfit/displacement.h>
+#include <meshfit/exceptions.h>
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+using meshfit::Vector_3;
+using meshfit::Vertex_adjacency;
+
+namespace {
+
+// The n × n grid graph (4-neighbours), vertex (i, j) = j n + i.
+Vertex_adjacency grid_graph(std::size_t n) {
+  Vertex_adjacency a;
+  for (std::size_t j = 0; j < n; ++j)
+    for (std::size_t i = 0; i < n; ++i) {
+      if (i > 0) a.neighbours.push_back(j * n + i - 1);
+      if (i + 1 < n) a.neighbours.push_back(j * n + i + 1);
+      if (j > 0) a.neighbours.push_back((j - 1) * n + i);
+      if (j + 1 < n) a.neighbours.push_back((j + 1) * n + i);
+      a.offsets.push_back(a.neighbours.size());
+    }
+  return a;
+}
+
+}  // namespace
+
+TEST_CASE("displacement: a constant displacement of the held vertices moves every vertex by it", "[displacement]") {
+  const std::size_t n = 9;
+  const Vertex_adjacency a = grid_graph(n);
+  std::vector<bool> held(n * n, false);
+  std::vector<Vector_3> given(n * n, Vector_3(0, 0, 0));
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t k : {i, (n - 1) * n + i, i * n, i * n + n - 1}) held[k] = true, given[k] = Vector_3(1, -2, 0.5);
+  for (int order : {1, 2}) {
+    meshfit::Displacement_report r;
+    const auto d = meshfit::interpolate_displacements(a, held, given, order, &r);
+    CHECK(r.free_vertices == (n - 2) * (n - 2));
+    for (const Vector_3& v : d) CHECK(std::sqrt((v - Vector_3(1, -2, 0.5)).squared_length()) < 1e-12);
+  }
+}
+
+TEST_CASE("displacement: the membrane solution on a path is the linear interpolation and obeys the maximum principle",
+          "[displacement]") {
+  // A path 0 - 1 - … - 10 with its ends held.
+  Vertex_adjacency a;
+  const std::size_t n = 11;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i > 0) a.neighbours.push_back(i - 1);
+    if (i + 1 < n) a.neighbours.push_back(i + 1);
+    a.offsets.push_back(a.neighbours.size());
+  }
+  std::vector<bool> held(n, false);
+  held[0] = held[n - 1] = true;
+  std::vector<Vector_3> given(n, Vector_3(0, 0, 0));
+  given[n - 1] = Vector_3(10, 0, -5);
+  const auto d = meshfit::interpolate_displacements(a, held, given, 1);
+  for (std::size_t i = 0; i < n; ++i) {
+    CHECK(d[i].x() == Approx(double(i)).margin(1e-12));
+    CHECK(d[i].z() == Approx(-0.5 * double(i)).margin(1e-12));
+  }
+  // On a grid with scattered held values the membrane solution stays within their range.
+  const Vertex_adjacency g = grid_graph(12);
+  std::vector<bool> h(144, false);
+  std::vector<Vector_3> v(144, Vector_3(0, 0, 0));
+  const std::size_t spots[] = {0, 17, 50, 77, 100, 143};
+  const double values[] = {3, -1, 2, 0.5, -2, 1};
+  for (int k = 0; k < 6; ++k) h[spots[k]] = true, v[spots[k]] = Vector_3(values[k], 0, 0);
+  const auto m = meshfit::interpolate_displacements(g, h, v, 1);
+  for (const Vector_3& x : m) {
+    CHECK(x.x() <= 3 + 1e-12);
+    CHECK(x.x() >= -2 - 1e-12);
+  }
+}
+
+TEST_CASE("displacement: a part with no held vertex keeps a zero displacement; bad input is refused", "[displacement]") {
+  // Two separate edges: 0 - 1 held at one end, 2 - 3 with nothing held.
+  Vertex_adjacency a;
+  a.neighbours = {1, 0, 3, 2};
+  a.offsets = {0, 1, 2, 3, 4};
+  std::vector<bool> held = {true, false, false, false};
+  std::vector<Vector_3> given(4, Vector_3(0, 0, 0));
+  given[0] = Vector_3(0, 1, 0);
+  meshfit::Displacement_report r;
+  const auto d = meshfit::interpolate_displacements(a, held, given, 2, &r);
+  CHECK(r.unconstrained_free_vertices == 2);
+  CHECK(d[1].y() == Approx(1));
+  CHECK(d[2] == Vector_3(0, 0, 0));
+  CHECK(d[3] == Vector_3(0, 0, 0));
+  CHECK_THROWS_AS(meshfit::interpolate_displacements(a, {true}, given, 2), meshfit::Invalid_input);
+  CHECK_THROWS_AS(meshfit::interpolate_displacements(a, held, given, 3), meshfit::Invalid_input);
+  given[0] = Vector_3(std::nan(""), 0, 0);
+  CHECK_THROWS_AS(meshfit::interpolate_displacements(a, held, given, 2), meshfit::Invalid_input);
+}
