@@ -245,10 +245,7 @@ TEST_CASE("deform: the surface fine level embeds every curve without folding, on
     CHECK(r.segments_not_embedded.empty());
     CHECK(embedded_exactly(e.tm, e.network, r) == e.network.number_of_vertices());
     CHECK(segments_as_edge_paths(e.tm, e.network, r.mesh_vertex_of_network_vertex) == e.network.number_of_segments());
-    // Known limit: where a curve runs exactly through template vertices (the example's plane
-    // sections pass through icosphere vertices), stage 2 leaves a few faces standing on edge,
-    // and up to 4 of them end inverted; the smoothing stage of fit repairs them.
-    CHECK(inward_faces(e.tm) <= 4);
+    CHECK(inward_faces(e.tm) == 0);
     CHECK(folded_edges(e.tm) == 0);
     CHECK(CGAL::is_valid_polygon_mesh(e.tm));
     // At most one new vertex per network vertex.
@@ -344,6 +341,6 @@ TEST_CASE("deform: both fine levels on the same input, the thesis's kept as an o
     CHECK(r.fine_level == level);
     CHECK(r.remaining_flips == 0);
     CHECK(embedded_exactly(e.tm, e.network, r) == e.network.number_of_vertices());
-    CHECK(inward_faces(e.tm) <= (level == meshfit::Fine_level::thesis ? 0u : 4u));  // see above
+    CHECK(inward_faces(e.tm) == 0);
   }
 }

@@ -1078,16 +1078,28 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
   std::vector<bool> folded_before;
   s.folded_faces(before, &folded_before);
   std::size_t degenerate = 0;
+  // Faces standing steeply on the reference (more than about 70 degrees from it) are relaxed as
+  // well, though they count as neither flips nor folds: left alone, such a face (a sliver stage 2
+  // leaves where a curve runs through a template vertex) ends up on either side of vertical.
+  std::size_t serious = 0;  // flips + folds of the last call
   auto bad_faces = [&] {
-    std::vector<typename GT::face_descriptor> bad;
+    std::vector<typename GT::face_descriptor> bad, steep;
     for (auto f : faces(tm)) {
       const auto c = s.corners(f);
       const Vector_3 N = reference_normal[c[0]] + reference_normal[c[1]] + reference_normal[c[2]];
-      if (CGAL::orientation(after[c[0]], after[c[1]], after[c[2]], after[c[0]] + N) != CGAL::POSITIVE) bad.push_back(f);
+      if (CGAL::orientation(after[c[0]], after[c[1]], after[c[2]], after[c[0]] + N) != CGAL::POSITIVE) {
+        bad.push_back(f);
+        continue;
+      }
+      const Vector_3 nf = CGAL::cross_product(after[c[1]] - after[c[0]], after[c[2]] - after[c[0]]);
+      if (nf * N < 0.34 * std::sqrt(nf.squared_length() * N.squared_length())) steep.push_back(f);
     }
     report.remaining_flips = bad.size();
     const auto folded = s.folded_faces(after, nullptr, &folded_before);
+    report.remaining_folds = folded.size();
+    serious = bad.size() + folded.size();
     bad.insert(bad.end(), folded.begin(), folded.end());
+    bad.insert(bad.end(), steep.begin(), steep.end());
     return bad;
   };
   auto flipped = bad_faces();
@@ -1096,7 +1108,7 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
   // Relaxation pulls vertices towards their neighbours' mean, which also shrinks what it relaxes:
   // rings grow only a little, and the best state seen is kept.
   std::vector<Point_3> best = after;
-  std::size_t best_bad = flipped.size();
+  std::pair<std::size_t, std::size_t> best_bad{serious, flipped.size()};
   constexpr std::size_t max_rings = 3;
   for (std::size_t round = 0; !flipped.empty() && round < max_rounds; ++round) {
     std::vector<bool> relax(n, false);
@@ -1131,9 +1143,9 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
     report.untangle_rounds = round + 1;
     report.flip_rounds = round + 2;
     report.flips_found += flipped.size();
-    if (flipped.size() < best_bad) best = after, best_bad = flipped.size();
+    if (std::make_pair(serious, flipped.size()) < best_bad) best = after, best_bad = {serious, flipped.size()};
   }
-  if (flipped.size() > best_bad) {
+  if (std::make_pair(serious, flipped.size()) > best_bad) {
     after = std::move(best);
     flipped = bad_faces();
   }
@@ -1148,7 +1160,7 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
     bool changed = false;
     for (auto f : flipped) {
       const auto c = s.corners(f);
-      if (!(constrained[c[0]] && constrained[c[1]] && constrained[c[2]])) continue;
+      if (!(constrained[c[0]] && constrained[c[1]] && constrained[c[2]]) || good(c[0], c[1], c[2])) continue;
       for (auto h : CGAL::halfedges_around_face(halfedge(f, tm), tm)) {
         const auto g = opposite(h, tm);
         if (get(curve, edge(h, tm)) || is_border(g, tm)) continue;
@@ -1170,7 +1182,6 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
     pass = -1;  // keep going while flips repair something
     if (report.edges_flipped > num_faces(tm)) break;
   }
-  report.remaining_folds = flipped.size() - report.remaining_flips;
   report.degenerate_faces_skipped = degenerate;
   s.set_positions(after);
 
