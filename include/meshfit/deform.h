@@ -760,31 +760,58 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
     }
   }
 
-  // Boundary: a network vertex nearer to the template's boundary than half a boundary edge more
-  // than to the surface goes onto the boundary (a border edge is split, or a border vertex
-  // used), and a segment between two such vertices that runs along the boundary becomes the
-  // boundary arc between them, rather than a chord cutting border triangles off.
+  // Boundary: the vertices of curves that run along the template's border go onto the border (a
+  // border edge is split, or a border vertex used), and a segment between two such vertices that
+  // runs along the border becomes the border arc between them, rather than a chord cutting border
+  // triangles off.
   std::vector<bool> on_border(nv, false);
   std::vector<typename GT::halfedge_descriptor> border;
   for (auto h : halfedges(tm))
     if (is_border(h, tm)) border.push_back(h);
-  for (std::size_t v = 0; v < nv && !border.empty(); ++v) {
-    if (mesh_of[v] != unassigned) {
-      on_border[v] = static_cast<bool>(is_border(s.vertex[mesh_of[v]], tm));
-      continue;
-    }
-    typename GT::halfedge_descriptor best;
-    double best_d2 = std::numeric_limits<double>::infinity(), best_u = 0, best_len = 0;
+  struct Border_point {
+    typename GT::halfedge_descriptor h;
+    double d2 = std::numeric_limits<double>::infinity(), u = 0, length = 0;
+  };
+  auto nearest_border_point = [&](const Point_3& p) {
+    Border_point best;
     for (auto h : border) {
       const Point_3 a = s.to_point(source(h, tm)), b = s.to_point(target(h, tm));
       const Vector_3 ab = b - a;
       const double len2 = ab.squared_length();
-      const double u = len2 > 0 ? std::min(1.0, std::max(0.0, ((network.point(v) - a) * ab) / len2)) : 0.0;
-      const double d2 = CGAL::squared_distance(network.point(v), a + u * ab);
-      if (d2 < best_d2) best = h, best_d2 = d2, best_u = u, best_len = std::sqrt(len2);
+      const double u = len2 > 0 ? std::min(1.0, std::max(0.0, ((p - a) * ab) / len2)) : 0.0;
+      const double d2 = CGAL::squared_distance(p, a + u * ab);
+      if (d2 < best.d2) best = {h, d2, u, std::sqrt(len2)};
     }
-    if (!(std::sqrt(best_d2) <= distance[v] + 0.5 * best_len)) continue;
-    on_border[v] = true;
+    return best;
+  };
+  if (!border.empty()) {
+    // Near the border: nearer to it than half a border edge more than to the surface. A curve
+    // (network.curves()) at least half of whose vertices are near the border runs along it, and
+    // its vertices go onto the border; a curve that only ends there (or passes near it) keeps its
+    // inner vertices inside.
+    std::vector<bool> near(nv, false);
+    for (std::size_t v = 0; v < nv; ++v) {
+      if (mesh_of[v] != unassigned) {
+        near[v] = static_cast<bool>(is_border(s.vertex[mesh_of[v]], tm));
+        continue;
+      }
+      const Border_point b = nearest_border_point(network.point(v));
+      near[v] = std::sqrt(b.d2) <= distance[v] + 0.5 * b.length;
+    }
+    for (const auto& curve_vertices : network.curves()) {
+      const auto& cv = curve_vertices.vertices;
+      const std::size_t count = static_cast<std::size_t>(std::count_if(cv.begin(), cv.end(), [&](std::size_t v) { return near[v]; }));
+      if (2 * count >= cv.size())
+        for (std::size_t v : cv) on_border[v] = on_border[v] || near[v] || v == cv.front() || v == cv.back();
+    }
+    for (std::size_t v = 0; v < nv; ++v)
+      if (mesh_of[v] != unassigned) on_border[v] = near[v];
+  }
+  for (std::size_t v = 0; v < nv && !border.empty(); ++v) {
+    if (mesh_of[v] != unassigned || !on_border[v]) continue;
+    const Border_point bp = nearest_border_point(network.point(v));
+    const auto best = bp.h;
+    const double best_u = bp.u;
     const typename GT::vertex_descriptor near_end = best_u < 0.5 ? source(best, tm) : target(best, tm);
     const std::size_t e = get(s.index, near_end);
     if ((best_u < placement_margin || best_u > 1 - placement_margin) && !reserved[e]) {

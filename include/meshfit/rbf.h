@@ -32,7 +32,9 @@ constexpr double rbf_residual_bound = 1e-9;
 constexpr double rbf_rcond_bound = 1e-15;
 /// Centres whose affine block has a relative smallest singular value below this are treated as
 /// coplanar (auxiliary pairs are added, see Rbf_interpolant::fit).
-constexpr double rbf_coplanarity_bound = 1e-9;
+/// (Centres that thin leave the affine term along their normal, even its sign, to small offsets
+/// of a few points: an open template nearly flat where the pairs are, say.)
+constexpr double rbf_coplanarity_bound = 1e-2;
 
 /// What a fit did.
 struct Rbf_fit_report {
