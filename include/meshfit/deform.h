@@ -853,8 +853,8 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
   report.vertices_inserted_for_density = s.vertex.size() - template_vertices;
   report.faces_subdivided = s.faces_split;
 
-  // Curves that cross without a shared vertex cannot both be edge chains: two segments with no
-  // common end whose surface images cross in the view along the surface normal there (exact
+  // Curves that cross without a shared vertex cannot both be edge chains: two segments of
+  // different polylines with no common end whose surface images cross in the view along the surface normal there (exact
   // orientations in that view) while the segments themselves nearly meet in space.
   {
     using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::size_t>;
@@ -862,11 +862,26 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
     std::vector<Box> boxes;
     for (std::size_t k = 0; k < segs.size(); ++k)
       boxes.emplace_back(s.to_point(s.vertex[mesh_of[segs[k][0]]]).bbox() + s.to_point(s.vertex[mesh_of[segs[k][1]]]).bbox(), k);
+    // The polyline of each segment: two segments of one polyline are not compared (a plane
+    // section of a thin part passes close to itself, and its projection may cross there).
+    std::vector<std::size_t> polyline_of(segs.size(), SIZE_MAX);
+    {
+      std::map<std::pair<std::size_t, std::size_t>, std::size_t> index;
+      for (std::size_t k = 0; k < segs.size(); ++k) index[std::minmax(segs[k][0], segs[k][1])] = k;
+      for (std::size_t l = 0; l < network.polylines().size(); ++l) {
+        const auto& pl = network.polylines()[l];
+        for (std::size_t i = 0; i + 1 < pl.size(); ++i) {
+          const auto it = index.find(std::minmax(pl[i], pl[i + 1]));
+          if (it != index.end() && polyline_of[it->second] == SIZE_MAX) polyline_of[it->second] = l;
+        }
+      }
+    }
     std::vector<std::pair<std::size_t, std::size_t>> crossing;
     CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const Box& x, const Box& y) {
       const auto& p = segs[x.info()];
       const auto& q = segs[y.info()];
       if (p[0] == q[0] || p[0] == q[1] || p[1] == q[0] || p[1] == q[1]) return;
+      if (polyline_of[x.info()] == polyline_of[y.info()]) return;
       const Point_3 a = s.to_point(s.vertex[mesh_of[p[0]]]), b = s.to_point(s.vertex[mesh_of[p[1]]]),
                     c = s.to_point(s.vertex[mesh_of[q[0]]]), d = s.to_point(s.vertex[mesh_of[q[1]]]);
       const Segment_3 sp(network.point(p[0]), network.point(p[1])), sq(network.point(q[0]), network.point(q[1]));
