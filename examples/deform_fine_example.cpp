@@ -1,4 +1,5 @@
-// Deforms the embedded example's sphere template onto its curve network (coarse then fine) and
+// Deforms the embedded example's sphere template onto its curve network (coarse, then the default
+// `surface` fine level: curves embedded in the coarse surface, then moved into place) and
 // writes the result; prints what the deformation did.
 //   deform_fine_example [template curves pairs output.off]
 #include <meshfit/deform.h>
@@ -25,11 +26,17 @@ int main(int argc, char** argv) {
               << " flips found, " << r.faces_subdivided << " faces subdivided, " << r.remaining_flips
               << " remaining, " << r.vertices_inserted_for_density << " vertices inserted for density, "
               << r.fine_seconds << " s\n"
+              << "fine level " << meshfit::to_string(r.fine_level) << ": " << r.segments_embedded
+              << " segments embedded as edge chains on the coarse surface (" << r.segments_by_shortest_path
+              << " by shortest path), " << r.remaining_folds << " faces still beside a fold\n"
               << "result: " << r.vertices << " vertices, " << r.faces << " faces\n";
     meshfit::write_triangle_mesh(output_path, tm);
-    return r.remaining_flips == 0 ? 0 : 3;
+    return r.remaining_flips == 0 && r.remaining_folds == 0 ? 0 : 3;
   } catch (const meshfit::Invalid_input& e) {
     std::cerr << "invalid input: " << e.what() << "\n";
     return 1;
+  } catch (const meshfit::Algorithm_failure& e) {
+    std::cerr << "cannot fit: " << e.what() << "\n";
+    return 3;
   }
 }

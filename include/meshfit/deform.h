@@ -653,24 +653,32 @@ Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
 }
 
 /// Fine level, Fine_level::surface, on a template already roughly in place (deform_coarse):
-///   1. every network vertex gets a mesh vertex at (or near) its nearest point on the surface (a
-///      face or an edge is split; a template vertex already there is reused; the user's pairs
-///      keep their template vertices);
-///   2. every segment becomes a chain of mesh edges between those vertices on this surface, with
-///      stage 2's insertion (partition_mesh on the network as projected), where nothing is folded;
+///   1. every network vertex gets a mesh vertex at (or near) its point on the surface, tracked
+///      along the curves from the user's pairs (internal::tracked_projections); the vertices of
+///      curves running along the border go onto the border; a face or an edge is split, or a
+///      template vertex already there reused; the user's pairs keep their template vertices;
+///   2. every segment becomes a chain of mesh edges on this surface, where nothing is folded:
+///      the border arc for a segment along the border, stage 2's insertion (partition_mesh on
+///      the network as projected) for the others, and the shortest edge path crossing no chain
+///      where that insertion refuses;
 ///   3. the network vertices are moved onto their points, the inner vertices of each chain onto
-///      the segment (at their parameter along the projected segment), and every other vertex by
-///      the thin-plate displacement field through those motions (interpolate_displacements);
-///   4. where a face still turns over (exact flip counter against step 2's surface), the free
-///      vertices around it are relaxed towards the mean of their neighbours, in growing rings, for
-///      at most `number_of_iterations` rounds (default 10); `report.remaining_flips` is what is
-///      left.
-/// Vertices are added only in step 1 (at most one per network vertex); new ones come after the
-/// existing ones. Named parameters: `vertex_point_map`, `number_of_iterations`, `progress`.
+///      the segment, and every other vertex by the thin-plate displacement field through those
+///      motions (interpolate_displacements);
+///   4. faces that turn over against the coarse surface's normals, or fold with a neighbour,
+///      are repaired: the free vertices around them are relaxed towards their neighbours' mean
+///      (up to 3 rings, for at most `number_of_iterations` rounds, default 10, the best state
+///      kept), and an edge of a bad face whose corners are all held is flipped when both new
+///      faces are good. `report.remaining_flips` and `report.remaining_folds` are what is left.
+/// Vertices are added only in step 1 (at most one per network vertex), after the existing ones.
+/// Named parameters: `vertex_point_map`, `number_of_iterations`, `progress`.
 /// \throws Invalid_input for pairs out of range, or two pairs that give one network vertex two
-///         template vertices (or the reverse); Algorithm_failure, naming the polylines, when a
-///         polyline lies entirely far from the coarse-deformed template (farther than a tenth of
-///         its bounding-box diagonal), or when two network vertices land on one mesh vertex.
+///         template vertices (or the reverse).
+/// \throws Algorithm_failure, naming the polylines (1-based, in file order), before any work
+///         when: the network is not planar and the template has genus 0; a polyline lies entirely
+///         far from the coarse-deformed template (farther than a tenth of its size); segments of
+///         two polylines cross on the surface without a shared vertex (their projections cross
+///         and the segments pass within 1 % of their length of each other); two network vertices
+///         cannot be told apart on the surface (curves denser than the template).
 template <typename TriangleMesh, typename NamedParameters = CGAL::parameters::Default_named_parameters>
 Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network& network,
                                           const std::vector<Correspondence>& pairs,
@@ -1223,6 +1231,46 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
     flipped = bad_faces();
     pass = -1;  // keep going while flips repair something
     if (report.edges_flipped > num_faces(tm)) break;
+  }
+  // A fold left between two good faces is often the diagonal of their quadrilateral taken the
+  // wrong way (across a row of nearly collinear chain vertices): flip that edge when it is not a
+  // curve edge and both new faces are good and fold with none of their neighbours.
+  auto folds_with_neighbours = [&](typename GT::halfedge_descriptor h) {
+    const auto c = s.corners(face(h, tm));
+    const Triangle_points t{after[c[0]], after[c[1]], after[c[2]]};
+    for (auto g : CGAL::halfedges_around_face(h, tm)) {
+      const auto o = opposite(g, tm);
+      if (is_border(o, tm)) continue;
+      const auto d = s.corners(face(o, tm));
+      if (orientation_in_plane(t, after[d[0]], after[d[1]], after[d[2]]) != CGAL::POSITIVE) return true;
+    }
+    return false;
+  };
+  for (std::size_t pass = 0; pass < 4 && report.remaining_folds > 0; ++pass) {
+    std::vector<bool> folded_now;
+    s.folded_faces(after, &folded_now, &folded_before);
+    bool changed = false;
+    std::size_t k = 0;
+    for (auto e : edges(tm)) {
+      const std::size_t ek = k++;
+      if (ek >= folded_now.size() || !folded_now[ek] || get(curve, e)) continue;
+      const auto h = halfedge(e, tm), g = opposite(h, tm);
+      const auto u = source(h, tm), v = target(h, tm), x = target(next(h, tm), tm), y = target(next(g, tm), tm);
+      if (halfedge(x, y, tm).second) continue;
+      const std::size_t iu = get(s.index, u), iv = get(s.index, v), ix = get(s.index, x), iy = get(s.index, y);
+      if (!good(iu, iy, ix) || !good(iy, iv, ix)) continue;
+      const Triangle_points first{after[iu], after[iy], after[ix]};
+      if (orientation_in_plane(first, after[iy], after[iv], after[ix]) != CGAL::POSITIVE) continue;
+      CGAL::Euler::flip_edge(h, tm);  // now x -> y
+      if (folds_with_neighbours(h) || folds_with_neighbours(opposite(h, tm))) {
+        CGAL::Euler::flip_edge(h, tm);  // back to the diagonal u-v (two diagonals only)
+        continue;
+      }
+      ++report.edges_flipped;
+      changed = true;
+    }
+    flipped = bad_faces();
+    if (!changed) break;
   }
   report.degenerate_faces_skipped = degenerate;
   s.set_positions(after);
