@@ -107,3 +107,7 @@ for spec in "100 10 2" "316 10 1"; do
     echo "| $(field n) | $(field method) | $(field iterations) | $us | $(awk -v a="$tr" -v b="$us" 'BEGIN { printf "%.1fx", a / b }') | $(field volume_change_pct) | $(field min_angle) | $(field angle_sd) |"
   done
 done
+
+echo
+echo "Stress battery (issue 11): every case with both fine levels, scored by bench/battery/score_fit"
+"$root/bench/battery/run_battery.sh" --build "$build" --fine-level surface --fine-level thesis || true
