@@ -314,6 +314,15 @@ std::optional<std::size_t> genus_zero_border_cycles(const TriangleMesh& tm) {
   return cycles;
 }
 
+/// The diagonal of the bounding box of the mesh's points.
+template <typename TriangleMesh, typename VPM>
+double bbox_diagonal(const TriangleMesh& tm, const VPM& vpm) {
+  Bbox_3 box;
+  for (auto v : vertices(tm)) box += get(vpm, v).bbox();
+  return std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
+                   CGAL::square(box.zmax() - box.zmin()));
+}
+
 /// "polyline 3" or "polylines 1, 4, 7" (1-based, in file order), at most ten named.
 inline std::string name_polylines(const std::vector<std::size_t>& polylines) {
   std::ostringstream os;
@@ -744,10 +753,7 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
     surface_point = internal::tracked_projections(tm, vpm, tree, network, pairs, report.projections_off_nearest);
     // A polyline all of whose points are far from the surface cannot be embedded in it: say so
     // now, rather than after a long run.
-    Bbox_3 box;
-    for (auto v : vertices(tm)) box += get(vpm, v).bbox();
-    const double diag = std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
-                                  CGAL::square(box.zmax() - box.zmin()));
+    const double diag = internal::bbox_diagonal(tm, vpm);
     for (std::size_t v = 0; v < nv; ++v) {
       distance[v] = std::sqrt(CGAL::squared_distance(tree.closest_point(network.point(v)), network.point(v)));
       report.largest_projection_distance = std::max(report.largest_projection_distance, distance[v]);
@@ -992,11 +998,7 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
   }
   // Chain vertices lie on their (projected) segments within rounding: the default merge
   // tolerance of the mesh's size.
-  Bbox_3 box;
-  for (auto v : vertices(tm)) box += get(vpm, v).bbox();
-  const double chain_tolerance =
-      default_merge_tolerance * std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
-                                          CGAL::square(box.zmax() - box.zmin()));
+  const double chain_tolerance = default_merge_tolerance * internal::bbox_diagonal(tm, vpm);
 
   // Each segment's chain: its boundary arc, or the chain stage 2 made of it. Where stage 2 could
   // not make one (its insertion refuses to fold the surface, and its fallback moves vertices onto
