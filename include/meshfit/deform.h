@@ -1251,12 +1251,29 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
   for (std::size_t pass = 0; pass < 4 && report.remaining_folds > 0; ++pass) {
     std::vector<bool> folded_now;
     s.folded_faces(after, &folded_now, &folded_before);
-    bool changed = false;
+    // The folded edge itself, or, for a curve edge, the other edges of a face beside it whose
+    // corners are all held (three chain vertices where a chain turns round a triangle).
+    std::vector<typename GT::edge_descriptor> candidates;
     std::size_t k = 0;
     for (auto e : edges(tm)) {
       const std::size_t ek = k++;
-      if (ek >= folded_now.size() || !folded_now[ek] || get(curve, e)) continue;
+      if (ek >= folded_now.size() || !folded_now[ek]) continue;
+      if (!get(curve, e)) {
+        candidates.push_back(e);
+        continue;
+      }
+      for (auto h : {halfedge(e, tm), opposite(halfedge(e, tm), tm)}) {
+        if (is_border(h, tm)) continue;
+        const auto c = s.corners(face(h, tm));
+        if (!(constrained[c[0]] && constrained[c[1]] && constrained[c[2]])) continue;
+        for (auto g : {next(h, tm), prev(h, tm)})
+          if (!get(curve, edge(g, tm))) candidates.push_back(edge(g, tm));
+      }
+    }
+    bool changed = false;
+    for (auto e : candidates) {
       const auto h = halfedge(e, tm), g = opposite(h, tm);
+      if (is_border(h, tm) || is_border(g, tm)) continue;
       const auto u = source(h, tm), v = target(h, tm), x = target(next(h, tm), tm), y = target(next(g, tm), tm);
       if (halfedge(x, y, tm).second) continue;
       const std::size_t iu = get(s.index, u), iv = get(s.index, v), ix = get(s.index, x), iy = get(s.index, y);
