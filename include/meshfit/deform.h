@@ -1243,8 +1243,8 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
     for (auto g : CGAL::halfedges_around_face(h, tm)) {
       const auto o = opposite(g, tm);
       if (is_border(o, tm)) continue;
-      const auto d = s.corners(face(o, tm));
-      if (orientation_in_plane(t, after[d[0]], after[d[1]], after[d[2]]) != CGAL::POSITIVE) return true;
+      const auto other = s.corners(face(o, tm));
+      if (orientation_in_plane(t, after[other[0]], after[other[1]], after[other[2]]) != CGAL::POSITIVE) return true;
     }
     return false;
   };
