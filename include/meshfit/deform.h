@@ -42,6 +42,7 @@
 #include <deque>
 #include <map>
 #include <queue>
+#include <set>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -849,18 +850,23 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
   for (std::size_t pass = 0; !waiting.empty(); ++pass) {
     Tree tree(faces(tm).first, faces(tm).second, tm, vpm);
     tree.accelerate_distance_queries();
-    std::map<typename GT::face_descriptor, std::pair<std::size_t, Point_3>> at;
+    // One network vertex per face and pass, in the order of the network vertices (not of the
+    // face handles, which on a Polyhedron_3 are addresses): the result does not depend on memory.
+    std::set<typename GT::face_descriptor> taken;
+    std::vector<std::pair<std::size_t, std::pair<typename GT::face_descriptor, Point_3>>> at;
     std::vector<std::size_t> later;
     for (std::size_t v : waiting) {
       const auto hit = tree.closest_point_and_primitive(surface_point[v]);
-      if (!at.emplace(hit.second, std::make_pair(v, Point_3(hit.first.x(), hit.first.y(), hit.first.z()))).second)
+      if (taken.insert(hit.second).second)
+        at.push_back({v, {hit.second, Point_3(hit.first.x(), hit.first.y(), hit.first.z())}});
+      else
         later.push_back(v);
     }
-    for (const auto& [f, vp] : at) {
-      const std::size_t t = s.insert_near(f, vp.second, reserved, placement_margin, false);
+    for (const auto& [v, fp] : at) {
+      const std::size_t t = s.insert_near(fp.first, fp.second, reserved, placement_margin, false);
       reserved.resize(s.vertex.size(), false);
       reserved[t] = true;
-      mesh_of[vp.first] = t;
+      mesh_of[v] = t;
     }
     waiting.swap(later);
   }
