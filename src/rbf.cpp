@@ -59,6 +59,16 @@ bool finite(const Point_3& p) {
 
 double phi(Rbf_kernel k, double r) { return k == Rbf_kernel::linear ? r : r * r * r; }
 
+// The mean of the unit vectors along vs (zero vectors skipped).
+Vector_3 mean_unit_vector(const std::vector<Vector_3>& vs) {
+  Vector_3 mean(0, 0, 0);
+  for (const Vector_3& v : vs) {
+    const double len = std::sqrt(v.squared_length());
+    if (len > 0) mean = mean + v / len;
+  }
+  return vs.empty() ? mean : mean / static_cast<double>(vs.size());
+}
+
 // Centroid and bounding-box diagonal of a point set.
 std::pair<Vector_3, double> frame_of(const std::vector<Point_3>& pts) {
   double sx = 0, sy = 0, sz = 0;
@@ -97,9 +107,66 @@ std::pair<double, Vector_3> affine_conditioning(const std::vector<Point_3>& pts,
 
 }  // namespace
 
+Rbf_interpolant Rbf_interpolant::solve(const std::vector<Point_3>& centres, const std::vector<Point_3>& values,
+                                       Rbf_kernel kernel, double& residual) {
+  const auto [centre_shift, centre_diag] = frame_of(centres);
+  Rbf_interpolant E;
+  E.m_kernel = kernel;
+  E.m_shift_in = centre_shift;
+  E.m_scale_in = 1.0 / centre_diag;
+  const auto [value_shift, value_diag] = frame_of(values);
+  E.m_shift_out = value_shift;
+  E.m_scale_out = value_diag > 0 ? 1.0 / value_diag : 1.0;
+
+  const Eigen::Index n = static_cast<Eigen::Index>(centres.size());
+  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n + 4, n + 4);
+  Eigen::MatrixXd Y = Eigen::MatrixXd::Zero(n + 4, 3);
+  std::vector<Vector_3> c(centres.size());
+  for (Eigen::Index i = 0; i < n; ++i) {
+    c[i] = (centres[i] - CGAL::ORIGIN - E.m_shift_in) * E.m_scale_in;
+    const Vector_3 v = (values[i] - CGAL::ORIGIN - E.m_shift_out) * E.m_scale_out;
+    Y.row(i) << v.x(), v.y(), v.z();
+  }
+  for (Eigen::Index i = 0; i < n; ++i) {
+    for (Eigen::Index j = 0; j < i; ++j) {
+      const double r = std::sqrt((c[i] - c[j]).squared_length());
+      K(i, j) = K(j, i) = phi(kernel, r);
+    }
+    const double row[4] = {c[i].x(), c[i].y(), c[i].z(), 1.0};
+    for (int k = 0; k < 4; ++k) K(i, n + k) = K(n + k, i) = row[k];
+  }
+  const Eigen::PartialPivLU<Eigen::MatrixXd> lu(K);
+  // A (numerically) singular system would divide by a zero pivot: centres that nearly coincide,
+  // or a degenerate configuration the exact tests above let through.
+  const auto pivots = lu.matrixLU().diagonal().cwiseAbs();
+  const double pivot_ratio = pivots.maxCoeff() > 0 ? pivots.minCoeff() / pivots.maxCoeff() : 0.0;
+  const double rcond = pivot_ratio > rbf_rcond_bound ? lu.rcond() : 0.0;  // (a zero pivot would trap)
+  if (!(rcond > rbf_rcond_bound))
+    throw Numerical_error("RBF: the " + std::to_string(n + 4) + "×" + std::to_string(n + 4) +
+                          " system is singular (reciprocal condition number " + std::to_string(rcond) +
+                          "): some centres nearly coincide");
+  const Eigen::MatrixXd X = lu.solve(Y);
+  residual = (K * X - Y).norm() / std::max(Y.norm(), 1e-300);
+  if (!X.allFinite() || !(residual <= rbf_residual_bound))
+    throw Numerical_error("RBF: the solve of the " + std::to_string(n + 4) + "×" + std::to_string(n + 4) +
+                          " system failed (relative residual " + std::to_string(residual) + ", bound " +
+                          std::to_string(rbf_residual_bound) + ")");
+
+  E.m_cx.resize(n); E.m_cy.resize(n); E.m_cz.resize(n);
+  E.m_ax.resize(n); E.m_ay.resize(n); E.m_az.resize(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    E.m_cx[i] = c[i].x(); E.m_cy[i] = c[i].y(); E.m_cz[i] = c[i].z();
+    E.m_ax[i] = X(i, 0); E.m_ay[i] = X(i, 1); E.m_az[i] = X(i, 2);
+  }
+  for (int k = 0; k < 4; ++k)
+    for (int d = 0; d < 3; ++d) E.m_affine[k][d] = X(n + k, d);
+  return E;
+}
+
 Rbf_interpolant Rbf_interpolant::fit(const std::vector<Point_3>& centres_in,
                                      const std::vector<Point_3>& values_in, Rbf_kernel kernel,
-                                     const std::vector<Vector_3>& normals_in, Rbf_fit_report* report) {
+                                     const std::vector<Vector_3>& normals_in, Rbf_fit_report* report,
+                                     bool orientation_from_layout) {
   internal::Fp_trap_scope traps;
   if (centres_in.size() != values_in.size())
     throw Invalid_input("RBF: " + std::to_string(centres_in.size()) + " centres but " +
@@ -156,22 +223,12 @@ Rbf_interpolant Rbf_interpolant::fit(const std::vector<Point_3>& centres_in,
   // affine map of the plane onto the values keep its orientation (det[m_1, m_2, σe] > 0). Every
   // quantity is taken from its own side, so the auxiliary pairs turn, move and scale with the
   // template and with the network independently: the fit does not depend on where either is.
-  Vector_3 centre_shift, thin;
-  double centre_diag = 0, ratio = 0;
-  std::tie(centre_shift, centre_diag) = frame_of(centres);
-  std::tie(ratio, thin) = affine_conditioning(centres, centre_shift, 1.0 / centre_diag);
-  std::size_t auxiliary = 0;
-  if (internal::all_coplanar(centres) || ratio < rbf_coplanarity_bound) {
-    const std::size_t n0 = centres.size();
+  const std::size_t n0 = centres.size();
+  auto add_auxiliary_pairs = [&] {
+    const auto [centre_shift, centre_diag] = frame_of(centres);
+    const Vector_3 thin = affine_conditioning(centres, centre_shift, 1.0 / centre_diag).second;
     Vector_3 n = thin / std::sqrt(thin.squared_length());
-    if (!normals.empty()) {
-      Vector_3 mean(0, 0, 0);
-      for (const Vector_3& v : normals) {
-        const double len = std::sqrt(v.squared_length());
-        if (len > 0) mean = mean + v / len;
-      }
-      if (mean * n < 0) n = -n;
-    }
+    if (!normals.empty() && mean_unit_vector(normals) * n < 0) n = -n;
     const auto [value_shift0, value_diag0] = frame_of(values);
     const Vector_3 e0 = affine_conditioning(values, value_shift0, value_diag0 > 0 ? 1.0 / value_diag0 : 1.0).second;
     const Vector_3 e = e0 / std::sqrt(e0.squared_length());
@@ -204,60 +261,24 @@ Rbf_interpolant Rbf_interpolant::fit(const std::vector<Point_3>& centres_in,
       centres.push_back(centres[i] + hc * n);
       values.push_back(values[i] + (hv * sigma) * e);
     }
-    auxiliary = centres.size() - n0;
-    std::tie(centre_shift, centre_diag) = frame_of(centres);
+  };
+  {
+    const auto [centre_shift, centre_diag] = frame_of(centres);
+    if (internal::all_coplanar(centres) ||
+        affine_conditioning(centres, centre_shift, 1.0 / centre_diag).first < rbf_coplanarity_bound)
+      add_auxiliary_pairs();
   }
-
-  Rbf_interpolant E;
-  E.m_kernel = kernel;
-  E.m_shift_in = centre_shift;
-  E.m_scale_in = 1.0 / centre_diag;
-  const auto [value_shift, value_diag] = frame_of(values);
-  E.m_shift_out = value_shift;
-  E.m_scale_out = value_diag > 0 ? 1.0 / value_diag : 1.0;
-
-  const Eigen::Index n = static_cast<Eigen::Index>(centres.size());
-  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n + 4, n + 4);
-  Eigen::MatrixXd Y = Eigen::MatrixXd::Zero(n + 4, 3);
-  std::vector<Vector_3> c(centres.size());
-  for (Eigen::Index i = 0; i < n; ++i) {
-    c[i] = (centres[i] - CGAL::ORIGIN - E.m_shift_in) * E.m_scale_in;
-    const Vector_3 v = (values[i] - CGAL::ORIGIN - E.m_shift_out) * E.m_scale_out;
-    Y.row(i) << v.x(), v.y(), v.z();
+  double residual = 0;
+  Rbf_interpolant E = solve(centres, values, kernel, residual);
+  // Pairs on an open template (a disc, a patch): their layout along the surface fixes the
+  // orientation, and their offsets across it are shape, not orientation (a curved patch onto
+  // flatter curves, or onto a saddle, correlates either way). When the plain fit mirrors them, the
+  // auxiliary pairs decide instead: they keep the layout's orientation.
+  if (orientation_from_layout && centres.size() == n0 && !(E.affine_determinant() > 0)) {
+    add_auxiliary_pairs();
+    E = solve(centres, values, kernel, residual);
   }
-  for (Eigen::Index i = 0; i < n; ++i) {
-    for (Eigen::Index j = 0; j < i; ++j) {
-      const double r = std::sqrt((c[i] - c[j]).squared_length());
-      K(i, j) = K(j, i) = phi(kernel, r);
-    }
-    const double row[4] = {c[i].x(), c[i].y(), c[i].z(), 1.0};
-    for (int k = 0; k < 4; ++k) K(i, n + k) = K(n + k, i) = row[k];
-  }
-  const Eigen::PartialPivLU<Eigen::MatrixXd> lu(K);
-  // A (numerically) singular system would divide by a zero pivot: centres that nearly coincide,
-  // or a degenerate configuration the exact tests above let through.
-  const auto pivots = lu.matrixLU().diagonal().cwiseAbs();
-  const double pivot_ratio = pivots.maxCoeff() > 0 ? pivots.minCoeff() / pivots.maxCoeff() : 0.0;
-  const double rcond = pivot_ratio > rbf_rcond_bound ? lu.rcond() : 0.0;  // (a zero pivot would trap)
-  if (!(rcond > rbf_rcond_bound))
-    throw Numerical_error("RBF: the " + std::to_string(n + 4) + "×" + std::to_string(n + 4) +
-                          " system is singular (reciprocal condition number " + std::to_string(rcond) +
-                          "): some centres nearly coincide");
-  const Eigen::MatrixXd X = lu.solve(Y);
-  const double residual = (K * X - Y).norm() / std::max(Y.norm(), 1e-300);
-  if (!X.allFinite() || !(residual <= rbf_residual_bound))
-    throw Numerical_error("RBF: the solve of the " + std::to_string(n + 4) + "×" + std::to_string(n + 4) +
-                          " system failed (relative residual " + std::to_string(residual) + ", bound " +
-                          std::to_string(rbf_residual_bound) + ")");
-
-  E.m_cx.resize(n); E.m_cy.resize(n); E.m_cz.resize(n);
-  E.m_ax.resize(n); E.m_ay.resize(n); E.m_az.resize(n);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    E.m_cx[i] = c[i].x(); E.m_cy[i] = c[i].y(); E.m_cz[i] = c[i].z();
-    E.m_ax[i] = X(i, 0); E.m_ay[i] = X(i, 1); E.m_az[i] = X(i, 2);
-  }
-  for (int k = 0; k < 4; ++k)
-    for (int d = 0; d < 3; ++d) E.m_affine[k][d] = X(n + k, d);
+  const std::size_t auxiliary = centres.size() - n0;
 
   if (report) {
     report->centres = centres.size() - auxiliary;

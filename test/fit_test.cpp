@@ -5,6 +5,9 @@
 
 #include "test_helpers.h"
 
+#include <map>
+#include <set>
+
 using Mesh = CGAL::Surface_mesh<meshfit::Point_3>;
 
 namespace {
@@ -140,6 +143,99 @@ TEST_CASE("fit: an open template fitted to a network that includes its boundary"
   const std::string d = MESHFIT_EXAMPLE_DATA_DIR;
   const auto r = fit_and_verify(d + "/sheet/template.off", d + "/sheet/curves.polylines.txt", d + "/sheet/pairs.txt");
   CHECK(r.partition.regions == 4);
+}
+
+TEST_CASE("fit: an open grid onto a larger saddle: curves leaving the coarse surface stay inside", "[fit][open]") {
+  // The template is the unit square; the network is the square [-0.08, 1.08]² lifted onto a saddle,
+  // its boundary and two lines each way, all sampled at the same parameters (crossings are the
+  // same doubles). The pairs put the template's inner crossings on the network's, so the coarse
+  // surface stays the unit square: the outer parts of the lines lie beyond its border, their
+  // nearest points on it. Oracles of this test's own: every segment is a path of mesh edges whose
+  // vertices lie on it, the faces fall into 9 regions across those edges, and no face turns over
+  // (the saddle is a height field, every face must keep facing +z).
+  Mesh tm;
+  meshfit::Mesh_data sheet = meshfit_test::grid(24);
+  for (auto& p : sheet.points) p = meshfit::Point_3(p.x() / 24, p.y() / 24, 0);
+  meshfit::build_triangle_mesh(sheet, tm);
+  auto lift = [](double x, double y) { return meshfit::Point_3(x, y, 0.5 * ((x - 0.5) * (x - 0.5) - (y - 0.5) * (y - 0.5))); };
+  const std::vector<double> t = {-0.08, 0.05, 0.15, 0.3, 0.5, 0.7, 0.85, 0.95, 1.08};
+  std::vector<meshfit::Curve_network::Polyline> lines;
+  for (double k : {-0.08, 0.3, 0.7, 1.08}) {
+    meshfit::Curve_network::Polyline a, b;
+    for (double u : t) a.push_back(lift(k, u)), b.push_back(lift(u, k));
+    lines.push_back(a);
+    lines.push_back(b);
+  }
+  const meshfit::Curve_network network(lines);
+  std::vector<meshfit::Correspondence> pairs;
+  for (double x : {0.3, 0.7})
+    for (double y : {0.3, 0.7}) {
+      meshfit::Correspondence c;
+      c.network_vertex = *network.find_vertex(lift(x, y));
+      c.template_vertex = static_cast<std::size_t>(std::lround(y * 24) * 25 + std::lround(x * 24));
+      pairs.push_back(c);
+    }
+  auto curve = tm.add_property_map<Mesh::Edge_index, bool>("e:curve", false).first;
+  const meshfit::Fit_report r = meshfit::fit_template_to_curves(tm, network, pairs, CGAL::parameters::edge_is_constrained_map(curve));
+  for (const std::string& p : r.verification.problems()) INFO(p);
+  CHECK(r.verification.passed());
+  // Chains: from a's vertex, step to the neighbour on segment ab farthest along it (greedy).
+  auto vertex_at = [&](const meshfit::Point_3& p) {
+    for (auto v : tm.vertices())
+      if (tm.point(v) == p) return v;
+    return Mesh::null_vertex();
+  };
+  std::size_t not_chains = 0;
+  std::set<Mesh::Edge_index> chain_edges;
+  for (const auto& [a, b] : network.segments()) {
+    const meshfit::Point_3 &pa = network.point(a), &pb = network.point(b);
+    const meshfit::Segment_3 ab(pa, pb);
+    Mesh::Vertex_index u = vertex_at(pa);
+    const Mesh::Vertex_index end = vertex_at(pb);
+    double along = 0;
+    while (u != Mesh::null_vertex() && u != end) {
+      Mesh::Vertex_index next = Mesh::null_vertex();
+      Mesh::Halfedge_index via;
+      double next_along = 2;
+      for (auto h : CGAL::halfedges_around_source(u, tm)) {
+        const meshfit::Point_3& q = tm.point(tm.target(h));
+        const double s = ((q - pa) * (pb - pa)) / (pb - pa).squared_length();
+        if (s > along && s <= 1 + 1e-12 && s < next_along && CGAL::squared_distance(ab, q) < 1e-20)
+          next = tm.target(h), via = h, next_along = s;
+      }
+      if (next != Mesh::null_vertex()) chain_edges.insert(tm.edge(via)), along = next_along;
+      u = next;
+    }
+    not_chains += u != end;
+  }
+  CHECK(not_chains == 0);
+  // Regions: faces joined across edges that are no chain edge.
+  std::map<Mesh::Face_index, int> label;
+  int regions = 0;
+  for (auto f0 : tm.faces()) {
+    if (label.count(f0)) continue;
+    std::vector<Mesh::Face_index> stack{f0};
+    label[f0] = regions;
+    while (!stack.empty()) {
+      const auto f = stack.back();
+      stack.pop_back();
+      for (auto h : CGAL::halfedges_around_face(tm.halfedge(f), tm)) {
+        const auto g = tm.face(tm.opposite(h));
+        if (g == Mesh::null_face() || chain_edges.count(tm.edge(h)) || label.count(g)) continue;
+        label[g] = regions;
+        stack.push_back(g);
+      }
+    }
+    ++regions;
+  }
+  CHECK(regions == 9);
+  std::size_t turned = 0;
+  for (auto f : tm.faces()) {
+    const auto h = tm.halfedge(f);
+    const meshfit::Point_3 &a = tm.point(tm.source(h)), &b = tm.point(tm.target(h)), &c = tm.point(tm.target(tm.next(h)));
+    turned += !(CGAL::cross_product(b - a, c - a).z() > 0);
+  }
+  CHECK(turned == 0);
 }
 
 #ifdef MESHFIT_CGAL_DATA_DIR

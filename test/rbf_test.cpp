@@ -117,6 +117,28 @@ TEST_CASE("rbf: the affine part's determinant tells a rotation from a mirror", "
   }
 }
 
+TEST_CASE("rbf: on an open patch the pairs' layout, not their heights, gives the orientation", "[rbf]") {
+  // A bowl (z = 0.4 (x² + y²)) onto an upside-down bowl with the same layout along the surface:
+  // the heights correlate negatively, so the best affine map of the points mirrors; the patch
+  // faces +z and its layout keeps its orientation, so the map must not.
+  std::vector<Point_3> c, v;
+  for (double x : {-1.0, 0.0, 1.0})
+    for (double y : {-1.0, 0.0, 1.0}) {
+      const double r2 = x * x + y * y;
+      c.emplace_back(x, y, 0.4 * r2);
+      v.emplace_back(1.2 * x, 0.9 * y, -0.3 * r2);
+    }
+  const std::vector<Vector_3> facing(c.size(), Vector_3(0, 0, 1));
+  CHECK(Rbf_interpolant::fit(c, v, Rbf_kernel::linear, facing).affine_determinant() < 0);
+  meshfit::Rbf_fit_report r;
+  const Rbf_interpolant E = Rbf_interpolant::fit(c, v, Rbf_kernel::linear, facing, &r, true);
+  CHECK(E.affine_determinant() > 0);
+  CHECK(r.auxiliary_pairs == c.size());
+  for (std::size_t i = 0; i < c.size(); ++i) CHECK(std::sqrt(CGAL::squared_distance(E(c[i]), v[i])) < 1e-9);
+  // The side the patch faces goes to +z: a point above the centre lands above its image.
+  CHECK(E(Point_3(0, 0, 0.3)).z() > E(Point_3(0, 0, 0)).z());
+}
+
 TEST_CASE("rbf: degenerate pair sets give their documented outcomes", "[rbf]") {
   using meshfit_test::require_invalid;
   const std::vector<Point_3> square = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0.5, 0.5, 0}};

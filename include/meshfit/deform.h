@@ -248,8 +248,10 @@ struct Deform_state {
   /// inside the face, `margin` away from its edges). "Near" is a barycentric coordinate below
   /// `margin`; `centroid_when_reserved` puts the new vertex at the centroid instead. Returns its
   /// index.
+  /// With `off_border`, a border edge is not split nor a border vertex used: the face is split
+  /// with p's barycentric coordinates kept at least `margin` (a curve vertex inside the surface).
   std::size_t insert_near(face_descriptor f, const Point_3& p, const std::vector<bool>& reserved,
-                          double margin = 0.15, bool centroid_when_reserved = true) {
+                          double margin = 0.15, bool centroid_when_reserved = true, bool off_border = false) {
     const auto c = corners(f);
     const Point_3 t[3] = {to_point(vertex[c[0]]), to_point(vertex[c[1]]), to_point(vertex[c[2]])};
     // Barycentric coordinates of p (a placement choice, not a geometric decision: whatever is
@@ -265,12 +267,20 @@ struct Deform_state {
     for (int k = 0; k < 3; ++k)
       if (l[k] < margin) { ++small; which = k; }
     if (small == 0) return split_face_at(f, p);
+    auto clamped_in_face = [&] {
+      double sum = 0;
+      for (double& x : l) sum += (x = std::max(x, margin));
+      return split_face_at(f, Point_3((l[0] * t[0].x() + l[1] * t[1].x() + l[2] * t[2].x()) / sum,
+                                      (l[0] * t[0].y() + l[1] * t[1].y() + l[2] * t[2].y()) / sum,
+                                      (l[0] * t[0].z() + l[1] * t[1].z() + l[2] * t[2].z()) / sum));
+    };
     if (small == 1) {
       // The edge opposite corner `which`: split it at p's position along it, kept off its ends.
       const std::size_t a = c[(which + 1) % 3];
       const Point_3 &pa = t[(which + 1) % 3], &pb = t[(which + 2) % 3];
       auto h = halfedge(f, tm);
       while (get(index, source(h, tm)) != a) h = next(h, tm);
+      if (off_border && is_border(opposite(h, tm), tm)) return clamped_in_face();
       const double len2 = CGAL::squared_distance(pa, pb);
       double u = len2 > 0 ? ((p - pa) * (pb - pa)) / len2 : 0.5;
       u = std::min(1 - margin, std::max(margin, u));
@@ -280,13 +290,10 @@ struct Deform_state {
     int corner = 0;
     for (int k = 1; k < 3; ++k)
       if (l[k] > l[corner]) corner = k;
-    if (c[corner] >= reserved.size() || !reserved[c[corner]]) return c[corner];
-    if (centroid_when_reserved) return split_face(f);
-    double sum = 0;
-    for (double& x : l) sum += (x = std::max(x, margin));
-    return split_face_at(f, Point_3((l[0] * t[0].x() + l[1] * t[1].x() + l[2] * t[2].x()) / sum,
-                                    (l[0] * t[0].y() + l[1] * t[1].y() + l[2] * t[2].y()) / sum,
-                                    (l[0] * t[0].z() + l[1] * t[1].z() + l[2] * t[2].z()) / sum));
+    const bool usable = !(off_border && is_border(vertex[c[corner]], tm));
+    if (usable && (c[corner] >= reserved.size() || !reserved[c[corner]])) return c[corner];
+    if (centroid_when_reserved && usable) return split_face(f);
+    return clamped_in_face();
   }
   Point_3 to_point(vertex_descriptor v) const { return point_of<TriangleMesh>(vpm, v); }
   Vector_3 normal(std::size_t i) const {
@@ -446,6 +453,9 @@ inline void check_pairs(const std::vector<Correspondence>& pairs, std::size_t te
 
 /// Coarse level: moves every vertex of `tm` with the RBF interpolant through the user's `pairs`
 /// (template vertex position → network vertex). Vertex i is the i-th of vertices(tm).
+/// The orientation is the sign of the RBF's affine part; on an open template that faces one way
+/// (a disc, a patch) it is the pairs' layout along the template that decides it, not how their
+/// heights across it correlate (Rbf_interpolant::fit with `orientation_from_layout`).
 /// Named parameters: `vertex_point_map`, `rbf_kernel`, `progress`.
 /// \throws Invalid_input for pairs out of range or an RBF that they cannot define (see
 ///         Rbf_interpolant::fit); Numerical_error when the solve fails.
@@ -465,14 +475,30 @@ Deformation_report deform_coarse(TriangleMesh& tm, const Curve_network& network,
   internal::report_progress(progress, "deform", "coarse: fitting the RBF through the user's pairs", 0, 2);
   std::vector<Point_3> centres, values;
   std::vector<Vector_3> normals;
+  // An open template that faces one way (its vector area, the sum of its faces' area vectors, at
+  // least a tenth of its area: a disc, a patch, not a closed bag with a pin hole) gets its
+  // orientation from the pairs' layout along it (Rbf_interpolant::fit), its facing as the normal.
+  Vector_3 facing(0, 0, 0);
+  double area = 0;
+  if (!CGAL::is_closed(tm))
+    for (auto f : faces(tm)) {
+      const auto h = halfedge(f, tm);
+      const Point_3 a = s.to_point(source(h, tm)), b = s.to_point(target(h, tm)),
+                    c = s.to_point(target(next(h, tm), tm));
+      const Vector_3 n = CGAL::cross_product(b - a, c - a);
+      facing = facing + n;
+      area += std::sqrt(n.squared_length());
+    }
+  const bool open_facing = area > 0 && std::sqrt(facing.squared_length()) >= 0.1 * area;
   for (const Correspondence& c : pairs) {
     centres.push_back(s.to_point(s.vertex[c.template_vertex]));
     values.push_back(network.point(c.network_vertex));
-    normals.push_back(s.normal(c.template_vertex));
+    normals.push_back(open_facing ? facing : s.normal(c.template_vertex));
   }
   Deformation_report report;
   report.user_pairs = pairs.size();
-  const Rbf_interpolant E = Rbf_interpolant::fit(centres, values, kernel, normals, &report.coarse_fit);
+  const Rbf_interpolant E =
+      Rbf_interpolant::fit(centres, values, kernel, normals, &report.coarse_fit, open_facing);
   internal::report_progress(progress, "deform", "coarse: moving the template", 1, 2);
   const std::vector<Point_3> before = s.positions();
   std::vector<Point_3> p;
@@ -665,8 +691,10 @@ Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
 /// Fine level, Fine_level::surface, on a template already roughly in place (deform_coarse):
 ///   1. every network vertex gets a mesh vertex at (or near) its point on the surface, tracked
 ///      along the curves from the user's pairs (internal::tracked_projections); the vertices of
-///      curves running along the border go onto the border; a face or an edge is split, or a
-///      template vertex already there reused; the user's pairs keep their template vertices;
+///      curves running along the border go onto the border (a curve runs along it when its
+///      nearest border points trace at least half its length), the other vertices stay off it;
+///      a face or an edge is split, or a template vertex already there reused; the user's pairs
+///      keep their template vertices;
 ///   2. every segment becomes a chain of mesh edges on this surface, where nothing is folded:
 ///      the border arc for a segment along the border, stage 2's insertion (partition_mesh on
 ///      the network as projected) for the others, and the shortest edge path crossing no chain
@@ -801,22 +829,32 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
   };
   if (!border.empty()) {
     // Near the border: nearer to it than half a border edge more than to the surface. A curve
-    // (network.curves()) at least half of whose vertices are near the border runs along it, and
-    // its vertices go onto the border; a curve that only ends there (or passes near it) keeps its
-    // inner vertices inside.
+    // (network.curves()) runs along the border when its shadow there (the path of the nearest
+    // border points of its consecutive near vertices) is at least half as long as the curve, and
+    // its vertices go onto the border. A curve that only ends there, or leaves the coarse surface
+    // across the border (its points beyond are near the border too, but their shadows bunch up),
+    // keeps its inner vertices inside.
     std::vector<bool> near(nv, false);
+    std::vector<Point_3> shadow(nv);
     for (std::size_t v = 0; v < nv; ++v) {
       if (mesh_of[v] != unassigned) {
         near[v] = static_cast<bool>(is_border(s.vertex[mesh_of[v]], tm));
+        shadow[v] = s.to_point(s.vertex[mesh_of[v]]);
         continue;
       }
       const Border_point b = nearest_border_point(network.point(v));
       near[v] = std::sqrt(b.d2) <= distance[v] + 0.5 * b.length;
+      const Point_3 a = s.to_point(source(b.h, tm)), c = s.to_point(target(b.h, tm));
+      shadow[v] = a + b.u * (c - a);
     }
     for (const auto& curve_vertices : network.curves()) {
       const auto& cv = curve_vertices.vertices;
-      const std::size_t count = static_cast<std::size_t>(std::count_if(cv.begin(), cv.end(), [&](std::size_t v) { return near[v]; }));
-      if (2 * count >= cv.size())
+      double length = 0, along = 0;
+      for (std::size_t i = 0; i + 1 < cv.size(); ++i) {
+        length += std::sqrt(CGAL::squared_distance(network.point(cv[i]), network.point(cv[i + 1])));
+        if (near[cv[i]] && near[cv[i + 1]]) along += std::sqrt(CGAL::squared_distance(shadow[cv[i]], shadow[cv[i + 1]]));
+      }
+      if (length > 0 && 2 * along >= length)
         for (std::size_t v : cv) on_border[v] = on_border[v] || near[v] || v == cv.front() || v == cv.back();
     }
     for (std::size_t v = 0; v < nv; ++v)
@@ -863,7 +901,7 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
         later.push_back(v);
     }
     for (const auto& [v, fp] : at) {
-      const std::size_t t = s.insert_near(fp.first, fp.second, reserved, placement_margin, false);
+      const std::size_t t = s.insert_near(fp.first, fp.second, reserved, placement_margin, false, !on_border[v]);
       reserved.resize(s.vertex.size(), false);
       reserved[t] = true;
       mesh_of[v] = t;
@@ -908,7 +946,13 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
       // Near in space (a hundredth of the longer segment): curves that pass each other at a distance
       // are not refused on the strength of their projections alone.
       const double reach = 0.01 * std::sqrt(std::max(sp.squared_length(), sq.squared_length()));
-      if (!(CGAL::squared_distance(sp, sq) < reach * reach)) return;
+      const double gap = CGAL::squared_distance(sp, sq);
+      if (!(gap < reach * reach)) return;
+      // Nearest at an end of one of them: a segment that stops just short of the other curve (the
+      // one before a crossing vertex inserted next to a sample point) passes it, it does not cross.
+      const double end_gap = std::min({CGAL::squared_distance(sp.source(), sq), CGAL::squared_distance(sp.target(), sq),
+                                       CGAL::squared_distance(sq.source(), sp), CGAL::squared_distance(sq.target(), sp)});
+      if (!(end_gap > 4 * gap)) return;
       const Vector_3 N = s.normal(mesh_of[p[0]]) + s.normal(mesh_of[p[1]]) + s.normal(mesh_of[q[0]]) + s.normal(mesh_of[q[1]]);
       if (N == CGAL::NULL_VECTOR) return;
       const Vector_3 u = CGAL::cross_product(N, std::abs(N.x()) < std::abs(N.y()) ? Vector_3(1, 0, 0) : Vector_3(0, 1, 0));
@@ -1214,35 +1258,6 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
     const Vector_3 N = reference_normal[a] + reference_normal[b] + reference_normal[c];
     return CGAL::orientation(after[a], after[b], after[c], after[a] + N) == CGAL::POSITIVE;
   };
-  for (int pass = 0; pass < 3 && !flipped.empty(); ++pass) {
-    bool changed = false;
-    for (auto f : flipped) {
-      const auto c = s.corners(f);
-      if (!(constrained[c[0]] && constrained[c[1]] && constrained[c[2]]) || good(c[0], c[1], c[2])) continue;
-      for (auto h : CGAL::halfedges_around_face(halfedge(f, tm), tm)) {
-        const auto g = opposite(h, tm);
-        if (get(curve, edge(h, tm)) || is_border(g, tm)) continue;
-        const auto u = source(h, tm), v = target(h, tm), x = target(next(h, tm), tm), y = target(next(g, tm), tm);
-        if (halfedge(x, y, tm).second) continue;
-        const std::size_t iu = get(s.index, u), iv = get(s.index, v), ix = get(s.index, x), iy = get(s.index, y);
-        if (!good(iu, iy, ix) || !good(iy, iv, ix)) continue;
-        const Triangle_points first{after[iu], after[iy], after[ix]};
-        if (orientation_in_plane(first, after[iy], after[iv], after[ix]) != CGAL::POSITIVE) continue;
-        CGAL::Euler::flip_edge(h, tm);
-        changed = true;
-        break;
-      }
-      if (changed) break;  // faces changed: find the bad ones again
-    }
-    if (!changed) break;
-    ++report.edges_flipped;
-    flipped = bad_faces();
-    pass = -1;  // keep going while flips repair something
-    if (report.edges_flipped > num_faces(tm)) break;
-  }
-  // A fold left between two good faces is often the diagonal of their quadrilateral taken the
-  // wrong way (across a row of nearly collinear chain vertices): flip that edge when it is not a
-  // curve edge and both new faces are good and fold with none of their neighbours.
   auto folds_with_neighbours = [&](typename GT::halfedge_descriptor h) {
     const auto c = s.corners(face(h, tm));
     const Triangle_points t{after[c[0]], after[c[1]], after[c[2]]};
@@ -1254,6 +1269,46 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
     }
     return false;
   };
+  // Flips the edge of h (u-v, faces u v x and v u y) to x-y when it is no curve edge nor on the
+  // border, x-y is not an edge yet, both new faces are good and turn the same way and, with
+  // `unfolded`, neither folds with a neighbour (else it is flipped back). True if flipped.
+  auto flip_if_good = [&](typename GT::halfedge_descriptor h, bool unfolded) {
+    const auto g = opposite(h, tm);
+    if (get(curve, edge(h, tm)) || is_border(h, tm) || is_border(g, tm)) return false;
+    const auto u = source(h, tm), v = target(h, tm), x = target(next(h, tm), tm), y = target(next(g, tm), tm);
+    if (halfedge(x, y, tm).second) return false;
+    const std::size_t iu = get(s.index, u), iv = get(s.index, v), ix = get(s.index, x), iy = get(s.index, y);
+    if (!good(iu, iy, ix) || !good(iy, iv, ix)) return false;
+    const Triangle_points first{after[iu], after[iy], after[ix]};
+    if (orientation_in_plane(first, after[iy], after[iv], after[ix]) != CGAL::POSITIVE) return false;
+    CGAL::Euler::flip_edge(h, tm);  // now x -> y
+    if (unfolded && (folds_with_neighbours(h) || folds_with_neighbours(opposite(h, tm)))) {
+      CGAL::Euler::flip_edge(h, tm);  // back to the diagonal u-v (two diagonals only)
+      return false;
+    }
+    ++report.edges_flipped;
+    return true;
+  };
+  for (int pass = 0; pass < 3 && !flipped.empty(); ++pass) {
+    bool changed = false;
+    for (auto f : flipped) {
+      const auto c = s.corners(f);
+      if (!(constrained[c[0]] && constrained[c[1]] && constrained[c[2]]) || good(c[0], c[1], c[2])) continue;
+      for (auto h : CGAL::halfedges_around_face(halfedge(f, tm), tm))
+        if (flip_if_good(h, false)) {
+          changed = true;
+          break;
+        }
+      if (changed) break;  // faces changed: find the bad ones again
+    }
+    if (!changed) break;
+    flipped = bad_faces();
+    pass = -1;  // keep going while flips repair something
+    if (report.edges_flipped > num_faces(tm)) break;
+  }
+  // A fold left between two good faces is often the diagonal of their quadrilateral taken the
+  // wrong way (across a row of nearly collinear chain vertices): flip that edge when it is not a
+  // curve edge and both new faces are good and fold with none of their neighbours.
   for (std::size_t pass = 0; pass < 4 && report.remaining_folds > 0; ++pass) {
     std::vector<bool> folded_now;
     s.folded_faces(after, &folded_now, &folded_before);
@@ -1277,26 +1332,42 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
       }
     }
     bool changed = false;
-    for (auto e : candidates) {
-      const auto h = halfedge(e, tm), g = opposite(h, tm);
-      if (is_border(h, tm) || is_border(g, tm)) continue;
-      const auto u = source(h, tm), v = target(h, tm), x = target(next(h, tm), tm), y = target(next(g, tm), tm);
-      if (halfedge(x, y, tm).second) continue;
-      const std::size_t iu = get(s.index, u), iv = get(s.index, v), ix = get(s.index, x), iy = get(s.index, y);
-      if (!good(iu, iy, ix) || !good(iy, iv, ix)) continue;
-      const Triangle_points first{after[iu], after[iy], after[ix]};
-      if (orientation_in_plane(first, after[iy], after[iv], after[ix]) != CGAL::POSITIVE) continue;
-      CGAL::Euler::flip_edge(h, tm);  // now x -> y
-      if (folds_with_neighbours(h) || folds_with_neighbours(opposite(h, tm))) {
-        CGAL::Euler::flip_edge(h, tm);  // back to the diagonal u-v (two diagonals only)
-        continue;
-      }
-      ++report.edges_flipped;
-      changed = true;
-    }
+    for (auto e : candidates) changed = flip_if_good(halfedge(e, tm), true) || changed;
     flipped = bad_faces();
     if (!changed) break;
   }
+  // Slivers: a face with an angle under 5 degrees (a curve vertex placed next to an edge) is
+  // mended by flipping the edge that gives the pair of faces beside it a larger smallest angle, as
+  // long as the flip is good (flip_if_good) — smoothing moves no held vertex and cannot. At most
+  // one flip per edge and pass, 3 passes.
+  auto smallest_angle = [&](typename GT::halfedge_descriptor h) {
+    const auto c = s.corners(face(h, tm));
+    double a = CGAL_PI;
+    for (int k = 0; k < 3; ++k) {
+      const Vector_3 e1 = after[c[(k + 1) % 3]] - after[c[k]], e2 = after[c[(k + 2) % 3]] - after[c[k]];
+      a = std::min(a, std::atan2(std::sqrt(CGAL::cross_product(e1, e2).squared_length()), e1 * e2));
+    }
+    return a;
+  };
+  const double sliver = 5 * CGAL_PI / 180;
+  for (int pass = 0; pass < 3; ++pass) {
+    bool changed = false;
+    std::vector<typename GT::edge_descriptor> all(edges(tm).first, edges(tm).second);
+    for (auto e : all) {
+      const auto h = halfedge(e, tm), g = opposite(h, tm);
+      if (is_border(h, tm) || is_border(g, tm) || get(curve, e)) continue;
+      const double before_flip = std::min(smallest_angle(h), smallest_angle(g));
+      if (!(before_flip < sliver) || !flip_if_good(h, true)) continue;
+      if (std::min(smallest_angle(h), smallest_angle(opposite(h, tm))) > before_flip) {
+        changed = true;
+        continue;
+      }
+      CGAL::Euler::flip_edge(h, tm);  // no better: back
+      --report.edges_flipped;
+    }
+    if (!changed) break;
+  }
+  flipped = bad_faces();
   report.degenerate_faces_skipped = degenerate;
   s.set_positions(after);
 

@@ -40,7 +40,7 @@ constexpr double rbf_coplanarity_bound = 1e-2;
 struct Rbf_fit_report {
   std::size_t centres = 0;             ///< distinct centres used (after dropping exact repeats)
   std::size_t repeated_pairs = 0;      ///< pairs identical to an earlier one, dropped
-  std::size_t auxiliary_pairs = 0;     ///< added because the centres were (nearly) coplanar
+  std::size_t auxiliary_pairs = 0;     ///< added: the centres were (nearly) coplanar, or (orientation_from_layout) mirrored
   double relative_residual = 0;        ///< of the linear solve
 };
 
@@ -52,10 +52,13 @@ class Rbf_interpolant {
   ///
   /// Coplanar centres (exact test, or nearly: see rbf_coplanarity_bound) do not determine the
   /// affine term along the plane's normal. As the thesis prescribes, auxiliary pairs are then
-  /// added: each centre c_i offset by h·n_i maps to its value offset by the same h·n_i, with h a
-  /// tenth of the centres' bounding-box diagonal, so the interpolant moves points off the plane
-  /// as it moves the plane. n_i is `normals[i]` when given (vertex normals), else the plane's
-  /// normal; when normals are given but their offsets are coplanar too, the plane's normal is used.
+  /// added: each centre offset by a fifth of the centres' radius along the plane's normal (turned
+  /// to the side of `normals`, the template's vertex normals, when given) maps to its value offset
+  /// by a fifth of the values' radius along the values' thinnest direction, with the sign that
+  /// keeps the orientation of the best affine map of the plane onto the values. The same pairs are
+  /// added when `orientation_from_layout` is set (pairs on an open template, `normals` its
+  /// facing) and the plain fit would mirror: the pairs' offsets across a patch are its shape, and
+  /// their correlation says nothing about orientation.
   ///
   /// \throws Invalid_input (naming the pairs by 0-based index) for: sizes that differ, a
   ///         non-finite coordinate, fewer than 4 distinct centres, two equal centres with
@@ -65,7 +68,7 @@ class Rbf_interpolant {
   static Rbf_interpolant fit(const std::vector<Point_3>& centres, const std::vector<Point_3>& values,
                              Rbf_kernel kernel = Rbf_kernel::linear,
                              const std::vector<Vector_3>& normals = {},
-                             Rbf_fit_report* report = nullptr);
+                             Rbf_fit_report* report = nullptr, bool orientation_from_layout = false);
 
   /// E(p).
   Point_3 operator()(const Point_3& p) const;
@@ -85,6 +88,10 @@ class Rbf_interpolant {
   Rbf_kernel kernel() const { return m_kernel; }
 
  private:
+  // The interpolation system through exactly these pairs; sets the solve's relative residual.
+  static Rbf_interpolant solve(const std::vector<Point_3>& centres, const std::vector<Point_3>& values,
+                               Rbf_kernel kernel, double& residual);
+
   Rbf_kernel m_kernel = Rbf_kernel::linear;
   // Normalisation: x̂ = (x − m_shift_in) · m_scale_in; E(x) = m_shift_out + Ê(x̂) / m_scale_out.
   Vector_3 m_shift_in{0, 0, 0}, m_shift_out{0, 0, 0};
