@@ -1147,9 +1147,12 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
     }
     for (double& t : arc_length) t /= arc_length.back();
     const bool advancing = std::is_sorted(along.begin(), along.end(), std::less_equal<double>());
+    // A fifth of each parameter is even spacing: two inner vertices that project onto nearly the
+    // same point of the segment would make a needle that no held vertex lets smoothing undo.
+    const double m = static_cast<double>(chain.size() - 1);
     for (std::size_t i = 1; i + 1 < chain.size(); ++i) {
       const std::size_t c = get(s.index, chain[i]);
-      const double t = arc[k].empty() || advancing ? along[i] : arc_length[i];
+      const double t = 0.8 * (arc[k].empty() || advancing ? along[i] : arc_length[i]) + 0.2 * (static_cast<double>(i) / m);
       constrained[c] = true;
       goal[c] = network.point(a) + t * (network.point(b) - network.point(a));
     }
