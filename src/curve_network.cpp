@@ -1,5 +1,8 @@
 #include <meshfit/curve_network.h>
 
+#include <meshfit/coordinate_range.h>
+#include <meshfit/internal/format_number.h>
+
 #include "text_parser.h"
 #include "write_file.h"
 
@@ -61,7 +64,7 @@ Curve_network::Curve_network(const std::vector<Polyline>& polylines, double rela
                              const std::vector<Input_location>& where) {
   if (!(relative_tolerance >= 1e-15 && relative_tolerance <= 1e-2))
     throw Invalid_input("the merge tolerance must be between 1e-15 and 1e-2 of the bounding-box "
-                        "diagonal, not " + std::to_string(relative_tolerance));
+                        "diagonal, not " + internal::format_number(relative_tolerance));
   bool any = false;
   for (std::size_t k = 0; k < polylines.size(); ++k) {
     if (polylines[k].size() < 2)
@@ -69,8 +72,7 @@ Curve_network::Curve_network(const std::vector<Polyline>& polylines, double rela
                           polyline_name(k) + " has " + std::to_string(polylines[k].size()) +
                               " point(s); a polyline needs at least 2");
     for (const Point_3& p : polylines[k]) {
-      if (!std::isfinite(p.x()) || !std::isfinite(p.y()) || !std::isfinite(p.z()))
-        throw Invalid_input(location_of(where, k), polyline_name(k) + " has a non-finite coordinate");
+      check_coordinate_range(p, location_of(where, k), polyline_name(k) + ", point " + std::to_string(&p - polylines[k].data() + 1));
       m_bbox += p.bbox();
       any = true;
     }
@@ -79,8 +81,8 @@ Curve_network::Curve_network(const std::vector<Polyline>& polylines, double rela
   const double diagonal = std::sqrt(CGAL::square(m_bbox.xmax() - m_bbox.xmin()) +
                                     CGAL::square(m_bbox.ymax() - m_bbox.ymin()) +
                                     CGAL::square(m_bbox.zmax() - m_bbox.zmin()));
-  if (!(diagonal > 0) || !std::isfinite(diagonal))
-    throw Invalid_input("the curve network's points all coincide (or its extent overflows)");
+  check_extent(diagonal, Input_location{}, "the curve network");
+  m_relative_tolerance = relative_tolerance;
   m_tolerance = relative_tolerance * diagonal;
 
   // Merge points: each point joins the nearest existing vertex within the tolerance, else
@@ -240,9 +242,10 @@ Curve_network parse_curve_network(const std::string& content, const std::string&
     const auto& t = in.tokens();
     const std::uint64_t n = in.to_unsigned(t[0], "point count");
     if (n < 2) in.fail("a polyline needs at least 2 points, this one declares " + std::to_string(n));
+    // (3 n is not computed: it wraps for a declared count near 2^64.)
     if ((t.size() - 1) % 3 != 0 || (t.size() - 1) / 3 != n)
-      in.fail("the polyline declares " + std::to_string(n) + " points (" + std::to_string(3 * n) +
-              " coordinates) but the line has " + std::to_string(t.size() - 1) + " coordinates");
+      in.fail("the polyline declares " + std::to_string(n) + " points (3 coordinates each) but the line has " +
+              std::to_string(t.size() - 1) + " coordinates");
     Curve_network::Polyline pl;
     pl.reserve(n);
     for (std::size_t i = 0; i < n; ++i)

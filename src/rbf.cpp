@@ -1,5 +1,8 @@
 #include <meshfit/rbf.h>
 
+#include <meshfit/internal/format_number.h>
+#include <meshfit/memory_limit.h>
+
 #include "fp_traps.h"
 #include "point_set_predicates.h"
 #include "rbf_evaluate.h"
@@ -99,7 +102,8 @@ std::pair<double, Vector_3> affine_conditioning(const std::vector<Point_3>& pts,
 
 Rbf_interpolant Rbf_interpolant::fit(const std::vector<Point_3>& centres_in,
                                      const std::vector<Point_3>& values_in, Rbf_kernel kernel,
-                                     const std::vector<Vector_3>& normals_in, Rbf_fit_report* report) {
+                                     const std::vector<Vector_3>& normals_in, Rbf_fit_report* report,
+                                     std::size_t memory_limit) {
   internal::Fp_trap_scope traps;
   if (centres_in.size() != values_in.size())
     throw Invalid_input("RBF: " + std::to_string(centres_in.size()) + " centres but " +
@@ -217,6 +221,10 @@ Rbf_interpolant Rbf_interpolant::fit(const std::vector<Point_3>& centres_in,
   E.m_scale_out = value_diag > 0 ? 1.0 / value_diag : 1.0;
 
   const Eigen::Index n = static_cast<Eigen::Index>(centres.size());
+  // K and its LU factors, before either is allocated.
+  const double system = static_cast<double>(n + 4);
+  check_memory_estimate(2 * 8 * system * system, memory_limit, "deform",
+                        "the RBF's dense " + std::to_string(n + 4) + "×" + std::to_string(n + 4) + " system");
   Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n + 4, n + 4);
   Eigen::MatrixXd Y = Eigen::MatrixXd::Zero(n + 4, 3);
   std::vector<Vector_3> c(centres.size());
@@ -241,14 +249,14 @@ Rbf_interpolant Rbf_interpolant::fit(const std::vector<Point_3>& centres_in,
   const double rcond = pivot_ratio > rbf_rcond_bound ? lu.rcond() : 0.0;  // (a zero pivot would trap)
   if (!(rcond > rbf_rcond_bound))
     throw Numerical_error("RBF: the " + std::to_string(n + 4) + "×" + std::to_string(n + 4) +
-                          " system is singular (reciprocal condition number " + std::to_string(rcond) +
+                          " system is singular (reciprocal condition number " + internal::format_number(rcond) +
                           "): some centres nearly coincide");
   const Eigen::MatrixXd X = lu.solve(Y);
   const double residual = (K * X - Y).norm() / std::max(Y.norm(), 1e-300);
   if (!X.allFinite() || !(residual <= rbf_residual_bound))
     throw Numerical_error("RBF: the solve of the " + std::to_string(n + 4) + "×" + std::to_string(n + 4) +
-                          " system failed (relative residual " + std::to_string(residual) + ", bound " +
-                          std::to_string(rbf_residual_bound) + ")");
+                          " system failed (relative residual " + internal::format_number(residual) + ", bound " +
+                          internal::format_number(rbf_residual_bound) + ")");
 
   E.m_cx.resize(n); E.m_cy.resize(n); E.m_cz.resize(n);
   E.m_ax.resize(n); E.m_ay.resize(n); E.m_az.resize(n);

@@ -62,10 +62,13 @@ class Rbf_interpolant {
   ///         different values, all centres collinear (or equal).
   /// \throws Numerical_error when the system is singular (rbf_rcond_bound), or the solve yields
   ///         a non-finite value or a relative residual above rbf_residual_bound.
+  /// \throws Algorithm_failure ("deform") before any allocation when the dense system and its
+  ///         factorisation (2·8·(n+4)² bytes for n centres) would exceed `memory_limit` bytes
+  ///         (0: default_memory_limit(), see memory_limit.h).
   static Rbf_interpolant fit(const std::vector<Point_3>& centres, const std::vector<Point_3>& values,
                              Rbf_kernel kernel = Rbf_kernel::linear,
                              const std::vector<Vector_3>& normals = {},
-                             Rbf_fit_report* report = nullptr);
+                             Rbf_fit_report* report = nullptr, std::size_t memory_limit = 0);
 
   /// E(p).
   Point_3 operator()(const Point_3& p) const;
