@@ -121,7 +121,9 @@ def main():
     # No report on exit 3: mirrored pairs, pairs rotated 180 degrees, nearly coplanar pairs.
     t, c, q = mapped(lambda p: (-p[0], p[1], p[2]), pts, polys, pairs, template=False)
     emit(out, 'mirrored', t, faces, c, q)
-    emit(out, 'rotated180', pts, faces, polys, [(i, (-p[0], -p[1], p[2])) for i, p in pairs])
+    # Pairs rotated: each template vertex paired with the point of the pair half the list away.
+    emit(out, 'rotated180', pts, faces, polys,
+         [(pairs[k][0], pairs[(k + len(pairs) // 2) % len(pairs)][1]) for k in range(len(pairs))])
     t, c, q = mapped(lambda p: (p[0], p[1], p[2] * 1e-7), pts, polys, pairs, template=False)
     emit(out, 'nearly-coplanar', t, faces, c, q)
     # Unused vertices: every vertex repeated once, the copies unused.

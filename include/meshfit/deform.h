@@ -1266,6 +1266,10 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
     const Vector_3 N = reference_normal[a] + reference_normal[b] + reference_normal[c];
     return CGAL::orientation(after[a], after[b], after[c], after[a] + N) == CGAL::POSITIVE;
   };
+  // Each flip repairs a bad face, and each is followed by a scan of the whole mesh: at most four
+  // flips per bad face, and 256 in all, keep this from running quadratically long (what is left
+  // is reported in remaining_flips).
+  const std::size_t max_edge_flips = std::min<std::size_t>(64 + 4 * flipped.size(), 256);
   for (int pass = 0; pass < 3 && !flipped.empty(); ++pass) {
     bool changed = false;
     for (auto f : flipped) {
@@ -1290,7 +1294,7 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
     ++report.edges_flipped;
     flipped = bad_faces();
     pass = -1;  // keep going while flips repair something
-    if (report.edges_flipped > num_faces(tm)) break;
+    if (report.edges_flipped >= max_edge_flips) break;
   }
   // A fold left between two good faces is often the diagonal of their quadrilateral taken the
   // wrong way (across a row of nearly collinear chain vertices): flip that edge when it is not a

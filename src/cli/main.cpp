@@ -379,7 +379,7 @@ int run_deform(const Command_line& cl) {
   } catch (const meshfit::Numerical_error& e) {
     failure = e.what();
   } catch (const meshfit::Algorithm_failure& e) {
-    failure = e.what();
+    failure = e.stage() == "deform" ? e.reason() : e.what();
     stage = e.stage();
   }
   if (failure.empty() && r.orientation_reversed)
