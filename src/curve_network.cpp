@@ -235,23 +235,30 @@ std::size_t Curve_network::number_of_independent_cycles() const {
 
 Curve_network parse_curve_network(const std::string& content, const std::string& name,
                                   double relative_tolerance) {
-  internal::Line_reader in(content, name);
+  // One token per line in tokens(): a polyline of millions of points is read from its line
+  // directly, without an array of its tokens (which would take several times the file's size).
+  internal::Line_reader in(content, name, '#', 1);
   std::vector<Curve_network::Polyline> polylines;
   std::vector<Input_location> where;
   while (in.next()) {
-    const auto& t = in.tokens();
-    const std::uint64_t n = in.to_unsigned(t[0], "point count");
+    const std::string_view line = in.line();
+    const std::string_view first = in.tokens()[0];
+    const std::uint64_t n = in.to_unsigned(first, "point count");
     if (n < 2) in.fail("a polyline needs at least 2 points, this one declares " + std::to_string(n));
+    std::size_t pos = static_cast<std::size_t>(first.data() + first.size() - line.data());
+    const std::size_t coordinates = internal::count_tokens(line.substr(pos));
     // (3 n is not computed: it wraps for a declared count near 2^64.)
-    if ((t.size() - 1) % 3 != 0 || (t.size() - 1) / 3 != n)
+    if (coordinates % 3 != 0 || coordinates / 3 != n)
       in.fail("the polyline declares " + std::to_string(n) + " points (3 coordinates each) but the line has " +
-              std::to_string(t.size() - 1) + " coordinates");
+              std::to_string(coordinates) + " coordinates");
     Curve_network::Polyline pl;
     pl.reserve(n);
-    for (std::size_t i = 0; i < n; ++i)
-      pl.emplace_back(in.to_double(t[1 + 3 * i], "x coordinate"),
-                      in.to_double(t[2 + 3 * i], "y coordinate"),
-                      in.to_double(t[3 + 3 * i], "z coordinate"));
+    for (std::size_t i = 0; i < n; ++i) {
+      const double x = in.to_double(internal::next_token(line, pos), "x coordinate");
+      const double y = in.to_double(internal::next_token(line, pos), "y coordinate");
+      const double z = in.to_double(internal::next_token(line, pos), "z coordinate");
+      pl.emplace_back(x, y, z);
+    }
     polylines.push_back(std::move(pl));
     where.push_back(in.here());
   }

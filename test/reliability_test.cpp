@@ -81,7 +81,7 @@ TEST_CASE("coordinate range: the readers refuse meshes and networks outside it",
     meshfit::read_mesh_data(off);
     FAIL("no exception");
   } catch (const meshfit::Invalid_input& e) {
-    CHECK(std::string(e.what()).find("t.off: vertex 1 ") == 0);
+    CHECK(std::string(e.what()).find("/t.off: vertex 1 ") != std::string::npos);
   }
   const std::string tiny = dir.write("s.off", "OFF\n3 1 0\n0 0 0\n1e-150 0 0\n0 1e-150 0\n3 0 1 2\n");
   CHECK_THROWS_AS(meshfit::read_mesh_data(tiny), meshfit::Invalid_input);
@@ -90,7 +90,7 @@ TEST_CASE("coordinate range: the readers refuse meshes and networks outside it",
     meshfit::read_curve_network(curves);
     FAIL("no exception");
   } catch (const meshfit::Invalid_input& e) {
-    CHECK(std::string(e.what()).find("c.polylines.txt:3: polyline 1, point 2 ") == 0);
+    CHECK(std::string(e.what()).find("/c.polylines.txt:3: polyline 1, point 2 ") != std::string::npos);
   }
 }
 

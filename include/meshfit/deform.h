@@ -22,6 +22,7 @@
 #include <meshfit/internal/stage_support.h>
 #include <meshfit/internal/triangle_corners.h>
 #include <meshfit/internal/unit_scale.h>
+#include <meshfit/memory_limit.h>
 #include <meshfit/parameters.h>
 #include <meshfit/partition.h>
 #include <meshfit/rbf.h>
@@ -565,6 +566,12 @@ Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
   internal::Deform_state<TriangleMesh, decltype(vpm)> s(tm, vpm);
   internal::check_pairs(pairs, s.vertex.size(), num_faces(tm), network);
   internal::check_polylines_near(tm, vpm, network);
+  if (density == Curve_density::refine) {  // every network vertex will be a centre of the fine RBF
+    const double n = static_cast<double>(network.number_of_vertices() + 4);
+    check_memory_estimate(2 * 8 * n * n, memory_limit, "deform",
+                          "the fine RBF through all " + std::to_string(network.number_of_vertices()) +
+                              " network vertices (a dense system of as many unknowns)");
+  }
   Deformation_report report;
   report.fine_level = Fine_level::thesis;
   report.user_pairs = pairs.size();
