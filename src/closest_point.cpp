@@ -22,7 +22,7 @@ using Tree = Search::Tree;
 Closest_point_assignment closest_point_correspondences(const std::vector<Point_3>& pts,
                                                        const Curve_network& network,
                                                        const std::vector<Correspondence>& fixed,
-                                                       Loser_rule rule) {
+                                                       Loser_rule rule, const std::vector<bool>& candidates) {
   const std::size_t n = network.number_of_vertices();
   Closest_point_assignment result;
   result.template_of.assign(n, Closest_point_assignment::unassigned);
@@ -37,7 +37,7 @@ Closest_point_assignment closest_point_correspondences(const std::vector<Point_3
 
   std::vector<std::size_t> free_vertices;
   for (std::size_t i = 0; i < pts.size(); ++i)
-    if (!reserved[i]) free_vertices.push_back(i);
+    if (!reserved[i] && (candidates.empty() || (i < candidates.size() && candidates[i]))) free_vertices.push_back(i);
   if (free_vertices.empty()) {
     for (std::size_t v = 0; v < n; ++v)
       if (result.template_of[v] == Closest_point_assignment::unassigned) result.losers.push_back(v);
@@ -50,6 +50,7 @@ Closest_point_assignment closest_point_correspondences(const std::vector<Point_3
   // Nearest template vertex not in `taken` of network vertex v; among equidistant ones the lowest
   // index (the incremental search yields them in order of distance).
   std::vector<bool> taken = reserved;
+  for (std::size_t i = 0; i < candidates.size() && i < taken.size(); ++i) taken[i] = taken[i] || !candidates[i];
   auto nearest_free = [&](std::size_t v) {
     const Point_3& q = network.point(v);
     Search search(tree, q, 0.0, true, Search::Distance(point_map));

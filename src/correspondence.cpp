@@ -1,5 +1,7 @@
 #include <meshfit/correspondence.h>
 
+#include <meshfit/internal/format_number.h>
+
 #include "point_set_predicates.h"
 #include "text_parser.h"
 #include "write_file.h"
@@ -26,7 +28,7 @@ std::vector<Correspondence> parse_correspondences(const std::string& content, co
     if (!v)
       in.fail("the point (" + std::string(t[1]) + ", " + std::string(t[2]) + ", " +
               std::string(t[3]) + ") is not a vertex of the curve network (tolerance " +
-              std::to_string(network.tolerance()) + ")");
+              internal::format_number(network.tolerance()) + ")");
     c.network_vertex = *v;
     c.where = in.here();
     const auto t_it = by_template.emplace(c.template_vertex, in.line_number());

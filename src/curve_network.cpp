@@ -1,5 +1,8 @@
 #include <meshfit/curve_network.h>
 
+#include <meshfit/coordinate_range.h>
+#include <meshfit/internal/format_number.h>
+
 #include "text_parser.h"
 #include "write_file.h"
 
@@ -61,7 +64,7 @@ Curve_network::Curve_network(const std::vector<Polyline>& polylines, double rela
                              const std::vector<Input_location>& where) {
   if (!(relative_tolerance >= 1e-15 && relative_tolerance <= 1e-2))
     throw Invalid_input("the merge tolerance must be between 1e-15 and 1e-2 of the bounding-box "
-                        "diagonal, not " + std::to_string(relative_tolerance));
+                        "diagonal, not " + internal::format_number(relative_tolerance));
   bool any = false;
   for (std::size_t k = 0; k < polylines.size(); ++k) {
     if (polylines[k].size() < 2)
@@ -69,8 +72,7 @@ Curve_network::Curve_network(const std::vector<Polyline>& polylines, double rela
                           polyline_name(k) + " has " + std::to_string(polylines[k].size()) +
                               " point(s); a polyline needs at least 2");
     for (const Point_3& p : polylines[k]) {
-      if (!std::isfinite(p.x()) || !std::isfinite(p.y()) || !std::isfinite(p.z()))
-        throw Invalid_input(location_of(where, k), polyline_name(k) + " has a non-finite coordinate");
+      check_coordinate_range(p, location_of(where, k), polyline_name(k) + ", point " + std::to_string(&p - polylines[k].data() + 1));
       m_bbox += p.bbox();
       any = true;
     }
@@ -79,8 +81,8 @@ Curve_network::Curve_network(const std::vector<Polyline>& polylines, double rela
   const double diagonal = std::sqrt(CGAL::square(m_bbox.xmax() - m_bbox.xmin()) +
                                     CGAL::square(m_bbox.ymax() - m_bbox.ymin()) +
                                     CGAL::square(m_bbox.zmax() - m_bbox.zmin()));
-  if (!(diagonal > 0) || !std::isfinite(diagonal))
-    throw Invalid_input("the curve network's points all coincide (or its extent overflows)");
+  check_extent(diagonal, Input_location{}, "the curve network");
+  m_relative_tolerance = relative_tolerance;
   m_tolerance = relative_tolerance * diagonal;
 
   // Merge points: each point joins the nearest existing vertex within the tolerance, else
@@ -233,22 +235,30 @@ std::size_t Curve_network::number_of_independent_cycles() const {
 
 Curve_network parse_curve_network(const std::string& content, const std::string& name,
                                   double relative_tolerance) {
-  internal::Line_reader in(content, name);
+  // One token per line in tokens(): a polyline of millions of points is read from its line
+  // directly, without an array of its tokens (which would take several times the file's size).
+  internal::Line_reader in(content, name, '#', 1);
   std::vector<Curve_network::Polyline> polylines;
   std::vector<Input_location> where;
   while (in.next()) {
-    const auto& t = in.tokens();
-    const std::uint64_t n = in.to_unsigned(t[0], "point count");
+    const std::string_view line = in.line();
+    const std::string_view first = in.tokens()[0];
+    const std::uint64_t n = in.to_unsigned(first, "point count");
     if (n < 2) in.fail("a polyline needs at least 2 points, this one declares " + std::to_string(n));
-    if ((t.size() - 1) % 3 != 0 || (t.size() - 1) / 3 != n)
-      in.fail("the polyline declares " + std::to_string(n) + " points (" + std::to_string(3 * n) +
-              " coordinates) but the line has " + std::to_string(t.size() - 1) + " coordinates");
+    std::size_t pos = static_cast<std::size_t>(first.data() + first.size() - line.data());
+    const std::size_t coordinates = internal::count_tokens(line.substr(pos));
+    // (3 n is not computed: it wraps for a declared count near 2^64.)
+    if (coordinates % 3 != 0 || coordinates / 3 != n)
+      in.fail("the polyline declares " + std::to_string(n) + " points (3 coordinates each) but the line has " +
+              std::to_string(coordinates) + " coordinates");
     Curve_network::Polyline pl;
     pl.reserve(n);
-    for (std::size_t i = 0; i < n; ++i)
-      pl.emplace_back(in.to_double(t[1 + 3 * i], "x coordinate"),
-                      in.to_double(t[2 + 3 * i], "y coordinate"),
-                      in.to_double(t[3 + 3 * i], "z coordinate"));
+    for (std::size_t i = 0; i < n; ++i) {
+      const double x = in.to_double(internal::next_token(line, pos), "x coordinate");
+      const double y = in.to_double(internal::next_token(line, pos), "y coordinate");
+      const double z = in.to_double(internal::next_token(line, pos), "z coordinate");
+      pl.emplace_back(x, y, z);
+    }
     polylines.push_back(std::move(pl));
     where.push_back(in.here());
   }

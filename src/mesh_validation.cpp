@@ -1,10 +1,13 @@
 // Checks a polygon soup for what meshfit needs of a template (an oriented 2-manifold, possibly
 // with boundary) and triangulates polygons. Every error names the face's line or byte offset.
+#include <meshfit/coordinate_range.h>
+
 #include "polygon_soup.h"
 
 #include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 
 namespace meshfit {
@@ -82,6 +85,17 @@ Mesh_data validate_polygon_soup(const Polygon_soup& soup, Mesh_read_report* repo
 
   // Vertex numbers in messages as the file writes them.
   auto vertex_name = [&](std::size_t v) { return std::to_string(soup.one_based ? v + 1 : v); };
+  // The supported range (coordinate_range.h), once here for every format.
+  const Input_location file{soup.file, 0, Input_location::no_offset};
+  Bbox_3 box;
+  for (std::size_t v = 0; v < n; ++v) {
+    check_coordinate_range(soup.points[v], file, "vertex " + vertex_name(v));
+    box += soup.points[v].bbox();
+  }
+  if (n > 0)
+    check_extent(std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
+                           CGAL::square(box.zmax() - box.zmin())),
+                 file, "the mesh");
   Mesh_data mesh;
   mesh.points = soup.points;
   std::vector<std::size_t> source;  // polygon of each triangle

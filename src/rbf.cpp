@@ -1,5 +1,8 @@
 #include <meshfit/rbf.h>
 
+#include <meshfit/internal/format_number.h>
+#include <meshfit/memory_limit.h>
+
 #include "fp_traps.h"
 #include "point_set_predicates.h"
 #include "rbf_evaluate.h"
@@ -108,7 +111,7 @@ std::pair<double, Vector_3> affine_conditioning(const std::vector<Point_3>& pts,
 }  // namespace
 
 Rbf_interpolant Rbf_interpolant::solve(const std::vector<Point_3>& centres, const std::vector<Point_3>& values,
-                                       Rbf_kernel kernel, double& residual) {
+                                       Rbf_kernel kernel, std::size_t memory_limit, double& residual) {
   const auto [centre_shift, centre_diag] = frame_of(centres);
   Rbf_interpolant E;
   E.m_kernel = kernel;
@@ -119,6 +122,10 @@ Rbf_interpolant Rbf_interpolant::solve(const std::vector<Point_3>& centres, cons
   E.m_scale_out = value_diag > 0 ? 1.0 / value_diag : 1.0;
 
   const Eigen::Index n = static_cast<Eigen::Index>(centres.size());
+  // K and its LU factors, before either is allocated.
+  const double system = static_cast<double>(n + 4);
+  check_memory_estimate(2 * 8 * system * system, memory_limit, "deform",
+                        "the RBF's dense " + std::to_string(n + 4) + "×" + std::to_string(n + 4) + " system");
   Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n + 4, n + 4);
   Eigen::MatrixXd Y = Eigen::MatrixXd::Zero(n + 4, 3);
   std::vector<Vector_3> c(centres.size());
@@ -143,14 +150,14 @@ Rbf_interpolant Rbf_interpolant::solve(const std::vector<Point_3>& centres, cons
   const double rcond = pivot_ratio > rbf_rcond_bound ? lu.rcond() : 0.0;  // (a zero pivot would trap)
   if (!(rcond > rbf_rcond_bound))
     throw Numerical_error("RBF: the " + std::to_string(n + 4) + "×" + std::to_string(n + 4) +
-                          " system is singular (reciprocal condition number " + std::to_string(rcond) +
+                          " system is singular (reciprocal condition number " + internal::format_number(rcond) +
                           "): some centres nearly coincide");
   const Eigen::MatrixXd X = lu.solve(Y);
   residual = (K * X - Y).norm() / std::max(Y.norm(), 1e-300);
   if (!X.allFinite() || !(residual <= rbf_residual_bound))
     throw Numerical_error("RBF: the solve of the " + std::to_string(n + 4) + "×" + std::to_string(n + 4) +
-                          " system failed (relative residual " + std::to_string(residual) + ", bound " +
-                          std::to_string(rbf_residual_bound) + ")");
+                          " system failed (relative residual " + internal::format_number(residual) + ", bound " +
+                          internal::format_number(rbf_residual_bound) + ")");
 
   E.m_cx.resize(n); E.m_cy.resize(n); E.m_cz.resize(n);
   E.m_ax.resize(n); E.m_ay.resize(n); E.m_az.resize(n);
@@ -166,7 +173,7 @@ Rbf_interpolant Rbf_interpolant::solve(const std::vector<Point_3>& centres, cons
 Rbf_interpolant Rbf_interpolant::fit(const std::vector<Point_3>& centres_in,
                                      const std::vector<Point_3>& values_in, Rbf_kernel kernel,
                                      const std::vector<Vector_3>& normals_in, Rbf_fit_report* report,
-                                     bool orientation_from_layout) {
+                                     std::size_t memory_limit, bool orientation_from_layout) {
   internal::Fp_trap_scope traps;
   if (centres_in.size() != values_in.size())
     throw Invalid_input("RBF: " + std::to_string(centres_in.size()) + " centres but " +
@@ -269,14 +276,14 @@ Rbf_interpolant Rbf_interpolant::fit(const std::vector<Point_3>& centres_in,
       add_auxiliary_pairs();
   }
   double residual = 0;
-  Rbf_interpolant E = solve(centres, values, kernel, residual);
+  Rbf_interpolant E = solve(centres, values, kernel, memory_limit, residual);
   // Pairs on an open template (a disc, a patch): their layout along the surface fixes the
   // orientation, and their offsets across it are shape, not orientation (a curved patch onto
   // flatter curves, or onto a saddle, correlates either way). When the plain fit mirrors them, the
   // auxiliary pairs decide instead: they keep the layout's orientation.
   if (orientation_from_layout && centres.size() == n0 && !(E.affine_determinant() > 0)) {
     add_auxiliary_pairs();
-    E = solve(centres, values, kernel, residual);
+    E = solve(centres, values, kernel, memory_limit, residual);
   }
   const std::size_t auxiliary = centres.size() - n0;
 

@@ -32,22 +32,41 @@ std::string read_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Invalid_input(Input_location{path, 0, Input_location::no_offset},
                                "cannot open the file for reading");
-  return read_all(in, path);
+  // One allocation of the file's size (read_all's growing string peaks at twice or three times it).
+  const std::uintmax_t size = std::filesystem::file_size(path, ec);
+  if (ec || size == 0) return read_all(in, path);
+  std::string text(static_cast<std::size_t>(size), '\0');
+  in.read(text.data(), static_cast<std::streamsize>(size));
+  if (in.gcount() != static_cast<std::streamsize>(size) || in.bad())
+    throw Invalid_input(Input_location{path, 0, Input_location::no_offset}, "read error");
+  return text;
 }
 
 bool is_blank(char c) {
   return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
 }
 
-void split_tokens(std::string_view line, std::vector<std::string_view>& out) {
-  out.clear();
-  std::size_t i = 0;
+std::string_view next_token(std::string_view line, std::size_t& pos) {
   const std::size_t n = line.size();
-  while (i < n) {
-    while (i < n && is_blank(line[i])) ++i;
-    const std::size_t start = i;
-    while (i < n && !is_blank(line[i])) ++i;
-    if (i > start) out.push_back(line.substr(start, i - start));
+  while (pos < n && is_blank(line[pos])) ++pos;
+  const std::size_t start = pos;
+  while (pos < n && !is_blank(line[pos])) ++pos;
+  return line.substr(start, pos - start);
+}
+
+std::size_t count_tokens(std::string_view line) {
+  std::size_t pos = 0, count = 0;
+  while (!next_token(line, pos).empty()) ++count;
+  return count;
+}
+
+void split_tokens(std::string_view line, std::vector<std::string_view>& out, std::size_t max) {
+  out.clear();
+  std::size_t pos = 0;
+  while (out.size() < max) {
+    const std::string_view t = next_token(line, pos);
+    if (t.empty()) break;
+    out.push_back(t);
   }
 }
 
@@ -69,8 +88,8 @@ std::string quote(std::string_view token) {
   return s + "'";
 }
 
-Line_reader::Line_reader(std::string_view text, std::string file_name, char comment)
-    : m_text(text), m_file(std::move(file_name)), m_comment(comment) {
+Line_reader::Line_reader(std::string_view text, std::string file_name, char comment, std::size_t max_tokens)
+    : m_text(text), m_file(std::move(file_name)), m_comment(comment), m_max_tokens(max_tokens) {
   if (m_text.substr(0, 3) == "\xEF\xBB\xBF") m_pos = 3;  // UTF-8 byte-order mark
 }
 
@@ -86,7 +105,7 @@ bool Line_reader::next_raw() {
   }
   m_pos = end;
   ++m_line;
-  split_tokens(m_current, m_tokens);
+  split_tokens(m_current, m_tokens, m_max_tokens);
   return true;
 }
 

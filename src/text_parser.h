@@ -25,7 +25,10 @@ std::string read_file(const std::string& path);
 /// comment character, are skipped by next().
 class Line_reader {
  public:
-  Line_reader(std::string_view text, std::string file_name, char comment = '#');
+  /// `max_tokens` bounds how many tokens of a line tokens() holds (a reader of very long lines
+  /// walks the rest with next_token, so that no line costs a token array of its own).
+  Line_reader(std::string_view text, std::string file_name, char comment = '#',
+              std::size_t max_tokens = static_cast<std::size_t>(-1));
 
   /// Advances to the next significant line; false at the end of the text.
   bool next();
@@ -55,10 +58,17 @@ class Line_reader {
   std::size_t m_line = 0;
   std::string_view m_current;
   std::vector<std::string_view> m_tokens;
+  std::size_t m_max_tokens;
 };
 
 bool is_blank(char c);
-void split_tokens(std::string_view line, std::vector<std::string_view>& out);
+/// The tokens of `line`, at most `max` of them.
+void split_tokens(std::string_view line, std::vector<std::string_view>& out,
+                  std::size_t max = static_cast<std::size_t>(-1));
+/// The token of `line` at or after `pos` (empty at the end of the line); `pos` moves past it.
+std::string_view next_token(std::string_view line, std::size_t& pos);
+/// How many tokens `line` has.
+std::size_t count_tokens(std::string_view line);
 /// Quotes a token for an error message, shortened and with non-printable bytes escaped.
 std::string quote(std::string_view token);
 

@@ -358,7 +358,8 @@ TEST_CASE("cli: fit runs the whole pipeline on the embedded example", "[cli][fit
   }
 }
 
-TEST_CASE("cli: fit fed each malformed input exits 1 and writes nothing", "[cli][fit][malformed]") {
+TEST_CASE("cli: fit fed each malformed input exits 1, writes no output and a report that says why",
+          "[cli][fit][malformed]") {
   for (const Malformed_case& c : malformed_catalogue()) {
     SECTION(c.name) {
       Temp_dir dir;
@@ -369,7 +370,11 @@ TEST_CASE("cli: fit fed each malformed input exits 1 and writes nothing", "[cli]
       CHECK(r.status == 1);
       CHECK(r.err.find(bad) != std::string::npos);
       CHECK_FALSE(std::filesystem::exists(dir.file("out.ply")));
-      CHECK_FALSE(std::filesystem::exists(dir.file("r.json")));
+      // Issue 13: the report is written on every exit 1 after the paths were checked.
+      const std::string report = read_text(dir.file("r.json"));
+      CHECK(report.find("\"completed\": false") != std::string::npos);
+      CHECK(report.find("\"stage\": \"read\"") != std::string::npos);
+      CHECK(report.find("\"exit_status\": 1") != std::string::npos);
     }
   }
 }

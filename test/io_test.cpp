@@ -259,7 +259,7 @@ TEST_CASE("io: writing is atomic and never overwrites an input", "[io]") {
   std::size_t files = 0;
   for (const auto& e : std::filesystem::directory_iterator(dir.file(""))) { (void)e; ++files; }
   CHECK(files == 1);
-  require_invalid([&] { meshfit::write_mesh_data(dir.file("no/such/dir/out.off"), m); }, 0, "cannot create");
+  require_invalid([&] { meshfit::write_mesh_data(dir.file("no/such/dir/out.off"), m); }, 0, "does not exist");
   require_invalid([&] { meshfit::write_mesh_data(dir.file("out.xyz"), m); }, 0, "unknown mesh format");
 }
 

@@ -131,7 +131,7 @@ TEST_CASE("rbf: on an open patch the pairs' layout, not their heights, gives the
   const std::vector<Vector_3> facing(c.size(), Vector_3(0, 0, 1));
   CHECK(Rbf_interpolant::fit(c, v, Rbf_kernel::linear, facing).affine_determinant() < 0);
   meshfit::Rbf_fit_report r;
-  const Rbf_interpolant E = Rbf_interpolant::fit(c, v, Rbf_kernel::linear, facing, &r, true);
+  const Rbf_interpolant E = Rbf_interpolant::fit(c, v, Rbf_kernel::linear, facing, &r, 0, true);
   CHECK(E.affine_determinant() > 0);
   CHECK(r.auxiliary_pairs == c.size());
   for (std::size_t i = 0; i < c.size(); ++i) CHECK(std::sqrt(CGAL::squared_distance(E(c[i]), v[i])) < 1e-9);

@@ -63,12 +63,14 @@ enum class Loser_rule {
 /// comparison); the lower network index wins. Losers stay unassigned and are listed, or, with
 /// Loser_rule::next_nearest, compete again (same rules) for their nearest vertex not yet taken
 /// until every one has a vertex or none is left. Equidistant template vertices are resolved by
-/// the lower template index.
+/// the lower template index. When `candidates` is given (one flag per template point), only the
+/// flagged points are paired (the template's unused vertices are not).
 /// 	hrows Invalid_input when a fixed pair's indices are out of range.
 Closest_point_assignment closest_point_correspondences(const std::vector<Point_3>& template_points,
                                                        const Curve_network& network,
                                                        const std::vector<Correspondence>& fixed = {},
-                                                       Loser_rule rule = Loser_rule::drop);
+                                                       Loser_rule rule = Loser_rule::drop,
+                                                       const std::vector<bool>& candidates = {});
 
 /// Writes pairs in the format read_correspondences reads.
 void write_correspondences(const std::string& path, const std::vector<Correspondence>& pairs,

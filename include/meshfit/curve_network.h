@@ -78,6 +78,8 @@ class Curve_network {
   const Bbox_3& bbox() const { return m_bbox; }
   /// Absolute merge tolerance (relative tolerance × bounding-box diagonal).
   double tolerance() const { return m_tolerance; }
+  /// The merge tolerance relative to the bounding-box diagonal, as given to the constructor.
+  double relative_tolerance() const { return m_relative_tolerance; }
   /// Segments given more than once in the input (they are stored once).
   std::size_t number_of_repeated_segments() const { return m_repeated_segments; }
 
@@ -95,6 +97,7 @@ class Curve_network {
   std::size_t m_repeated_segments = 0;
   Bbox_3 m_bbox;
   double m_tolerance = 0;
+  double m_relative_tolerance = 0;
   // Vertices by grid cell of side `tolerance()`: a point's merge partners lie in the 27 cells
   // around its own.
   std::map<std::array<long long, 3>, std::vector<std::size_t>> m_cells;

@@ -21,6 +21,8 @@
 #include <meshfit/flip.h>
 #include <meshfit/internal/stage_support.h>
 #include <meshfit/internal/triangle_corners.h>
+#include <meshfit/internal/unit_scale.h>
+#include <meshfit/memory_limit.h>
 #include <meshfit/parameters.h>
 #include <meshfit/partition.h>
 #include <meshfit/rbf.h>
@@ -123,6 +125,14 @@ struct Deformation_report {
 inline std::string orientation_reversal_message(double affine_determinant) {
   std::ostringstream os;
   os.precision(3);
+  // The affine part maps the normalised template onto the normalised network: a determinant near
+  // zero flattens space, whatever its sign.
+  if (std::abs(affine_determinant) < 1e-6) {
+    os << "the affine part of the coarse map is (nearly) singular, determinant " << affine_determinant
+       << ": the pairs' network points are (nearly) coplanar or collinear while their template vertices are "
+          "not; give pairs that span the network in all three directions";
+    return os.str();
+  }
   os << "the correspondences mirror the template: the affine part of the coarse map has determinant "
      << affine_determinant
      << " (a reflection, not a rotation); check that the pairs are not listed in mirrored order, or mirror the "
@@ -340,6 +350,29 @@ inline std::string name_polylines(const std::vector<std::size_t>& polylines) {
   return os.str();
 }
 
+/// \throws Algorithm_failure naming the polylines that lie entirely far from `tm` (every point
+///         farther than a tenth of its bounding-box diagonal from the surface): no fine level can
+///         bring them onto it, and the thesis level would subdivide without end trying.
+template <typename TriangleMesh, typename VPM>
+void check_polylines_near(const TriangleMesh& tm, const VPM& vpm, const Curve_network& network) {
+  using Primitive = CGAL::AABB_face_graph_triangle_primitive<TriangleMesh, VPM>;
+  CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>> tree(faces(tm).first, faces(tm).second, tm, vpm);
+  tree.accelerate_distance_queries();
+  const double far2 = CGAL::square(0.1 * bbox_diagonal(tm, vpm));
+  std::vector<std::size_t> far;
+  for (std::size_t k = 0; k < network.polylines().size(); ++k) {
+    bool all_far = true;
+    for (std::size_t v : network.polylines()[k])
+      all_far = all_far && tree.squared_distance(network.point(v)) > far2;
+    if (all_far) far.push_back(k);
+  }
+  if (!far.empty())
+    throw Algorithm_failure("deform", name_polylines(far) + " (in file order) lie" + (far.size() == 1 ? "s" : "") +
+                                          " far from the template after the coarse level (every point farther than "
+                                          "a tenth of its size): more correspondences on " +
+                                          (far.size() == 1 ? "it" : "them") + " are needed");
+}
+
 /// The surface point of each network vertex, tracked along the curves: from the user's pairs
 /// (their template vertices), each neighbour along a segment takes the nearest point of the
 /// faces within reach of its predecessor's point (a face walk out to twice the segment's length
@@ -498,7 +531,7 @@ Deformation_report deform_coarse(TriangleMesh& tm, const Curve_network& network,
   Deformation_report report;
   report.user_pairs = pairs.size();
   const Rbf_interpolant E =
-      Rbf_interpolant::fit(centres, values, kernel, normals, &report.coarse_fit, open_facing);
+      Rbf_interpolant::fit(centres, values, kernel, normals, &report.coarse_fit, 0, open_facing);
   internal::report_progress(progress, "deform", "coarse: moving the template", 1, 2);
   const std::vector<Point_3> before = s.positions();
   std::vector<Point_3> p;
@@ -533,8 +566,12 @@ Deformation_report deform_coarse(TriangleMesh& tm, const Curve_network& network,
 /// rounds (default 10); `report.remaining_flips` tells whether that was enough. With
 /// Curve_density::refine (default) network vertices that lost their nearest template vertex get a
 /// vertex the same way; with Curve_density::drop they are dropped (reported), and only flip
-/// prevention adds vertices. New vertices come after the existing ones. Named parameters:
-/// `vertex_point_map`, `rbf_kernel`, `curve_density`, `number_of_iterations`, `progress`.
+/// prevention adds vertices. New vertices come after the existing ones. Vertices of no face play
+/// no part (no pair, no motion). Named parameters: `vertex_point_map`, `rbf_kernel`,
+/// `curve_density`, `number_of_iterations`, `memory_limit`, `progress`.
+/// \throws Algorithm_failure before any work when a polyline lies entirely far from the template
+///         (internal::check_polylines_near); when the dense RBF would exceed `memory_limit`; when
+///         flip prevention would grow the mesh past 8 × (template + network vertices).
 template <typename TriangleMesh, typename NamedParameters = CGAL::parameters::Default_named_parameters>
 Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
                                const std::vector<Correspondence>& pairs,
@@ -549,13 +586,26 @@ Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
   const std::size_t max_rounds =
       static_cast<std::size_t>(choose_parameter(get_parameter(np, CGAL::internal_np::number_of_iterations), 10));
   const auto progress = get_parameter(np, internal_np::progress);
+  const std::size_t memory_limit = choose_parameter(get_parameter(np, internal_np::memory_limit), std::size_t(0));
 
   auto vpm = internal::vertex_point_map_of(tm, np);
   internal::Deform_state<TriangleMesh, decltype(vpm)> s(tm, vpm);
   internal::check_pairs(pairs, s.vertex.size(), num_faces(tm), network);
+  internal::check_polylines_near(tm, vpm, network);
+  if (density == Curve_density::refine) {  // every network vertex will be a centre of the fine RBF
+    const double n = static_cast<double>(network.number_of_vertices() + 4);
+    check_memory_estimate(2 * 8 * n * n, memory_limit, "deform",
+                          "the fine RBF through all " + std::to_string(network.number_of_vertices()) +
+                              " network vertices (a dense system of as many unknowns)");
+  }
   Deformation_report report;
   report.fine_level = Fine_level::thesis;
   report.user_pairs = pairs.size();
+  // Vertices of no face (unused) are no candidates for the closest-point pairs and do not move.
+  std::vector<bool> used(s.vertex.size());
+  for (std::size_t i = 0; i < s.vertex.size(); ++i) used[i] = halfedge(s.vertex[i], tm) != GT::null_halfedge();
+  // Flip prevention adds vertices; beyond this many it is not converging.
+  const std::size_t max_vertices = 8 * (s.vertex.size() + network.number_of_vertices());
 
   // Pairs kept from round to round: the user's, then those made for density and flips.
   std::vector<Correspondence> fixed = pairs;
@@ -616,7 +666,8 @@ Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
   Closest_point_assignment assignment;
   for (std::size_t round = 0;; ++round) {
     std::vector<Point_3> before = s.positions();
-    assignment = closest_point_correspondences(before, network, fixed);
+    used.resize(s.vertex.size(), true);  // (vertices inserted since are on faces)
+    assignment = closest_point_correspondences(before, network, fixed, Loser_rule::drop, used);
 
     if (!assignment.losers.empty() && density == Curve_density::refine &&
         refine_passes < max_refine_passes && assignment.losers.size() < last_losers) {
@@ -640,10 +691,12 @@ Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
       values.push_back(network.point(v));
       placed.emplace_back(t, v);
     }
-    const Rbf_interpolant E = Rbf_interpolant::fit(centres, values, kernel, {}, &report.fine_fit);
+    const Rbf_interpolant E = Rbf_interpolant::fit(centres, values, kernel, {}, &report.fine_fit, memory_limit);
     moved.clear();
     E.evaluate(before, moved);
     for (const auto& [t, v] : placed) moved[t] = network.point(v);
+    for (std::size_t t = 0; t < used.size(); ++t)
+      if (!used[t]) moved[t] = before[t];
     report.fine_pairs = placed.size();
 
     const auto flipped = s.flipped_faces(before, moved, report.degenerate_faces_skipped);
@@ -672,6 +725,12 @@ Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
     }
     std::sort(pulled.begin(), pulled.end());
     pulled.erase(std::unique(pulled.begin(), pulled.end()), pulled.end());
+    if (s.vertex.size() + pulled.size() + unpaired.size() > max_vertices)
+      throw Algorithm_failure("deform", "flip prevention stopped in round " + std::to_string(round + 1) + ": " +
+                                            std::to_string(flipped.size()) + " faces flip, and subdividing them would "
+                                            "grow the mesh past " + std::to_string(max_vertices) +
+                                            " vertices (8 × (template + network vertices)); the coarse level leaves "
+                                            "the template too far from the curves (more correspondences help)");
     const std::size_t split_before = s.faces_split;
     report.vertices_inserted_for_flips += pin_at_projections(pulled, unpaired);
     report.faces_subdivided += s.faces_split - split_before;
@@ -1292,6 +1351,10 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
     ++report.edges_flipped;
     return true;
   };
+  // Each flip repairs a bad face, and each is followed by a scan of the whole mesh: at most four
+  // flips per bad face, and 256 in all, keep this from running quadratically long (what is left
+  // is reported in remaining_flips).
+  const std::size_t max_edge_flips = std::min<std::size_t>(64 + 4 * flipped.size(), 256);
   for (int pass = 0; pass < 3 && !flipped.empty(); ++pass) {
     bool changed = false;
     for (auto f : flipped) {
@@ -1307,7 +1370,7 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
     if (!changed) break;
     flipped = bad_faces();
     pass = -1;  // keep going while flips repair something
-    if (report.edges_flipped > num_faces(tm)) break;
+    if (report.edges_flipped >= max_edge_flips) break;
   }
   // A fold left between two good faces is often the diagonal of their quadrilateral taken the
   // wrong way (across a row of nearly collinear chain vertices): flip that edge when it is not a
@@ -1386,15 +1449,11 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
   return report;
 }
 
-/// Both levels: deform_coarse then the fine level (unless the named parameter `coarse_only` is
-/// true): deform_fine_on_surface, or deform_fine with `fine_level(Fine_level::thesis)`.
-/// The report holds the figures of both. When the coarse level reverses the orientation (pairs
-/// that mirror the template), the fine level is not run: the report says so and the caller
-/// decides (the command line fails with exit status 3).
-template <typename TriangleMesh, typename NamedParameters = CGAL::parameters::Default_named_parameters>
-Deformation_report deform_template(TriangleMesh& tm, const Curve_network& network,
-                                   const std::vector<Correspondence>& pairs,
-                                   const NamedParameters& np = CGAL::parameters::default_values()) {
+namespace internal {
+/// deform_template on the inputs as they are.
+template <typename TriangleMesh, typename NamedParameters>
+Deformation_report deform_template_unscaled(TriangleMesh& tm, const Curve_network& network,
+                                            const std::vector<Correspondence>& pairs, const NamedParameters& np) {
   using CGAL::parameters::choose_parameter;
   using CGAL::parameters::get_parameter;
   Deformation_report coarse = deform_coarse(tm, network, pairs, np);
@@ -1410,6 +1469,39 @@ Deformation_report deform_template(TriangleMesh& tm, const Curve_network& networ
   fine.coarse_affine_determinant = coarse.coarse_affine_determinant;
   return fine;
 }
+}  // namespace internal
+
+/// Both levels: deform_coarse then the fine level (unless the named parameter `coarse_only` is
+/// true): deform_fine_on_surface, or deform_fine with `fine_level(Fine_level::thesis)`.
+/// The report holds the figures of both. When the coarse level reverses the orientation (pairs
+/// that mirror the template), the fine level is not run: the report says so and the caller
+/// decides (the command line fails with exit status 3).
+/// The levels run on the inputs scaled by a power of two to a unit-sized box (exact; see
+/// coordinate_range.h), so the result does not depend on the unit of the coordinates.
+/// \throws Invalid_input when a template coordinate is outside the supported range.
+template <typename TriangleMesh, typename NamedParameters = CGAL::parameters::Default_named_parameters>
+Deformation_report deform_template(TriangleMesh& tm, const Curve_network& network,
+                                   const std::vector<Correspondence>& pairs,
+                                   const NamedParameters& np = CGAL::parameters::default_values()) {
+  const auto vpm = internal::vertex_point_map_of(tm, np);
+  Bbox_3 box = internal::checked_template_box(tm, vpm);
+  box += network.bbox();
+  const double s = internal::unit_scale(box);
+  if (s == 1) return internal::deform_template_unscaled(tm, network, pairs, np);
+  const Curve_network unit_network = internal::scaled(network, s);
+  internal::scale_points(tm, vpm, s);
+  Deformation_report r;
+  try {
+    r = internal::deform_template_unscaled(tm, unit_network, pairs, np);
+  } catch (...) {
+    internal::scale_points(tm, vpm, 1 / s);
+    throw;
+  }
+  internal::scale_points(tm, vpm, 1 / s);
+  r.largest_projection_distance /= s;
+  return r;
+}
+
 
 }  // namespace meshfit
 

@@ -58,11 +58,13 @@ class Numerical_error : public std::runtime_error {
 class Algorithm_failure : public std::runtime_error {
  public:
   Algorithm_failure(std::string stage, const std::string& reason)
-      : std::runtime_error(stage + ": " + reason), m_stage(std::move(stage)) {}
+      : std::runtime_error(stage + ": " + reason), m_stage(std::move(stage)), m_reason(reason) {}
   const std::string& stage() const noexcept { return m_stage; }
+  /// what() without the stage.
+  const std::string& reason() const noexcept { return m_reason; }
 
  private:
-  std::string m_stage;
+  std::string m_stage, m_reason;
 };
 
 }  // namespace meshfit

@@ -13,6 +13,7 @@
 #include <meshfit/flip.h>
 #include <meshfit/io.h>
 #include <meshfit/internal/stage_support.h>
+#include <meshfit/internal/unit_scale.h>
 #include <meshfit/parameters.h>
 #include <meshfit/partition.h>
 #include <meshfit/smooth.h>
@@ -143,7 +144,7 @@ std::optional<std::size_t> expected_regions(const TriangleMesh& tm, const Curve_
 ///   `vertex_point_map` (of `tm`);
 ///   `edge_is_constrained_map`, `face_patch_map` (outputs: curve edges, regions of the result);
 ///   stage 1: `fine_level` (Fine_level::surface), `rbf_kernel`, `curve_density`,
-///   `number_of_iterations` (rounds of flip prevention or untangling, 10);
+///   `number_of_iterations` (rounds of flip prevention or untangling, 10), `memory_limit`;
 ///   stage 3: `mean_curvature_iterations` (20), `laplacian_iterations` (80), `step_size` (1);
 ///   `check_self_intersections` (bool, default true: the most expensive check);
 ///   `progress` (called by every stage with its own stage name, and by the verification as "fit").
@@ -151,7 +152,7 @@ std::optional<std::size_t> expected_regions(const TriangleMesh& tm, const Curve_
 ///         Algorithm_failure when the pairs mirror the template, when some network vertex could
 ///         not be given a mesh vertex (Curve_density::drop), or when cancelled.
 template <typename TriangleMesh, typename NamedParameters = CGAL::parameters::Default_named_parameters>
-Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& network,
+Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& input_network,
                                   const std::vector<Correspondence>& pairs,
                                   const NamedParameters& np = CGAL::parameters::default_values()) {
   using CGAL::parameters::choose_parameter;
@@ -167,6 +168,7 @@ Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& network
       choose_parameter(get_parameter(np, internal_np::curve_density), Curve_density::refine);
   const Fine_level fine_level = choose_parameter(get_parameter(np, internal_np::fine_level), Fine_level::surface);
   const int rounds = choose_parameter(get_parameter(np, CGAL::internal_np::number_of_iterations), 10);
+  const std::size_t memory_limit = choose_parameter(get_parameter(np, internal_np::memory_limit), std::size_t(0));
   const std::size_t mc_iterations = choose_parameter(get_parameter(np, internal_np::mean_curvature_iterations), 20);
   const std::size_t lap_iterations = choose_parameter(get_parameter(np, internal_np::laplacian_iterations), 80);
   const double step = choose_parameter(get_parameter(np, internal_np::step_size), 1.0);
@@ -180,8 +182,19 @@ Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& network
 
   // The copy the stages work on (through Mesh_data, which keeps the order of vertices and faces;
   // CGAL::copy_face_graph does not).
+  // The stages run on the inputs scaled by a power of two to a unit-sized box (exact; see
+  // coordinate_range.h): the result does not depend on the unit of the coordinates.
+  Bbox_3 box = internal::checked_template_box(tm, vpm);
+  box += input_network.bbox();
+  const double unit = internal::unit_scale(box);
+  const Curve_network scaled_network = unit == 1 ? Curve_network() : internal::scaled(input_network, unit);
+  const Curve_network& network = unit == 1 ? input_network : scaled_network;
   TriangleMesh work;
-  build_triangle_mesh(to_mesh_data(tm, CGAL::parameters::vertex_point_map(vpm)), work);
+  {
+    Mesh_data data = to_mesh_data(tm, CGAL::parameters::vertex_point_map(vpm));
+    for (Point_3& p : data.points) p = internal::scaled(p, unit);
+    build_triangle_mesh(data, work);
+  }
   const auto wvpm = get(CGAL::vertex_point, work);
 
   auto t = std::chrono::steady_clock::now();
@@ -189,7 +202,8 @@ Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& network
       work, network, pairs,
       parameters::rbf_kernel(kernel, parameters::curve_density(
           density, parameters::fine_level(fine_level, parameters::progress(
-                                                          progress, CGAL::parameters::number_of_iterations(rounds))))));
+                                                          progress, parameters::memory_limit(
+                                                              memory_limit, CGAL::parameters::number_of_iterations(rounds)))))));
   report.deform_seconds = internal::seconds_since(t);
   if (report.deformation.orientation_reversed)
     throw Algorithm_failure("deform", orientation_reversal_message(report.deformation.coarse_affine_determinant));
@@ -263,9 +277,13 @@ Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& network
   report.faces = num_faces(work);
 
   // Commit: the result replaces the template, vertex i staying vertex i.
-  const Mesh_data result =
-      to_mesh_data(work, CGAL::parameters::edge_is_constrained_map(curve).face_patch_map(region));
+  Mesh_data result = to_mesh_data(work, CGAL::parameters::edge_is_constrained_map(curve).face_patch_map(region));
   report.minimum_angle_deg = minimum_angle_degrees(result);
+  for (Point_3& p : result.points) p = internal::scaled(p, 1 / unit);
+  report.deformation.largest_projection_distance /= unit;
+  report.smoothing.mean_displacement /= unit;
+  report.smoothing.max_displacement /= unit;
+  report.smoothing.last_step_max_displacement /= unit;
   auto ecm = get_parameter(np, CGAL::internal_np::edge_is_constrained);
   auto fpm = get_parameter(np, CGAL::internal_np::face_patch);
   if constexpr (!std::is_same_v<decltype(ecm), CGAL::internal_np::Param_not_found> &&

@@ -25,6 +25,7 @@
 //   | laplacian_iterations      | smooth_mesh's second phase      | the rest (80)                  |
 //   | check_self_intersections  | bool: fit's final verification | true                           |
 //   | fine_level        | meshfit::Fine_level (deform.h)          | Fine_level::surface            |
+//   | memory_limit      | std::size_t, bytes (memory_limit.h)     | default_memory_limit(): RAM / 8|
 // CGAL parameters meshfit reads: vertex_point_map; number_of_iterations (deform: the most flip
 // prevention rounds, default 10; smooth: the iterations); face_patch_map and
 // edge_is_constrained_map (io; smooth: curve edges); vertex_is_constrained_map (smooth).
@@ -65,6 +66,7 @@ enum mean_curvature_iterations_t { mean_curvature_iterations };
 enum laplacian_iterations_t { laplacian_iterations };
 enum check_self_intersections_t { check_self_intersections };
 enum fine_level_t { fine_level };
+enum memory_limit_t { memory_limit };
 }  // namespace internal_np
 
 namespace parameters {
@@ -99,6 +101,7 @@ MESHFIT_NAMED_PARAMETER(mean_curvature_iterations)
 MESHFIT_NAMED_PARAMETER(laplacian_iterations)
 MESHFIT_NAMED_PARAMETER(check_self_intersections)
 MESHFIT_NAMED_PARAMETER(fine_level)
+MESHFIT_NAMED_PARAMETER(memory_limit)
 
 #undef MESHFIT_NAMED_PARAMETER
 

@@ -65,10 +65,14 @@ class Rbf_interpolant {
   ///         different values, all centres collinear (or equal).
   /// \throws Numerical_error when the system is singular (rbf_rcond_bound), or the solve yields
   ///         a non-finite value or a relative residual above rbf_residual_bound.
+  /// \throws Algorithm_failure ("deform") before any allocation when the dense system and its
+  ///         factorisation (2·8·(n+4)² bytes for n centres) would exceed `memory_limit` bytes
+  ///         (0: default_memory_limit(), see memory_limit.h).
   static Rbf_interpolant fit(const std::vector<Point_3>& centres, const std::vector<Point_3>& values,
                              Rbf_kernel kernel = Rbf_kernel::linear,
                              const std::vector<Vector_3>& normals = {},
-                             Rbf_fit_report* report = nullptr, bool orientation_from_layout = false);
+                             Rbf_fit_report* report = nullptr, std::size_t memory_limit = 0,
+                             bool orientation_from_layout = false);
 
   /// E(p).
   Point_3 operator()(const Point_3& p) const;
@@ -90,7 +94,7 @@ class Rbf_interpolant {
  private:
   // The interpolation system through exactly these pairs; sets the solve's relative residual.
   static Rbf_interpolant solve(const std::vector<Point_3>& centres, const std::vector<Point_3>& values,
-                               Rbf_kernel kernel, double& residual);
+                               Rbf_kernel kernel, std::size_t memory_limit, double& residual);
 
   Rbf_kernel m_kernel = Rbf_kernel::linear;
   // Normalisation: x̂ = (x − m_shift_in) · m_scale_in; E(x) = m_shift_out + Ê(x̂) / m_scale_out.

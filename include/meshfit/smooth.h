@@ -60,6 +60,7 @@
 #define MESHFIT_SMOOTH_H
 
 #include <meshfit/exceptions.h>
+#include <meshfit/internal/format_number.h>
 #include <meshfit/internal/triangle_corners.h>
 #include <meshfit/kernel.h>
 #include <meshfit/parameters.h>
@@ -195,7 +196,7 @@ Flow_settings flow_settings(const NamedParameters& np, Flow_kind kind, std::size
   s.variant = choose_parameter(get_parameter(np, meshfit::internal_np::laplacian_variant), Laplacian_variant::none);
   s.alpha = choose_parameter(get_parameter(np, meshfit::internal_np::laplacian_alpha), 0.5);
   if (!(s.alpha >= 0 && s.alpha <= 1))
-    throw Invalid_input("smooth: laplacian_alpha must be in [0, 1], not " + std::to_string(s.alpha));
+    throw Invalid_input("smooth: laplacian_alpha must be in [0, 1], not " + internal::format_number(s.alpha));
   auto progress = get_parameter(np, meshfit::internal_np::progress);
   if constexpr (!std::is_same_v<decltype(progress), CGAL::internal_np::Param_not_found>) {
     s.on_iteration = [progress](std::size_t index, std::size_t total) {

@@ -49,6 +49,8 @@ const char* const usage_text =
     "  --fine-level L       surface (default: embed the curves in the coarse surface, then move them into\n"
     "                       place with a thin-plate displacement) or thesis (nearest-vertex RBF, subdivision)\n"
     "  --max-rounds N       flip prevention (thesis) or untangling (surface) rounds at most (default 10)\n"
+    "  --max-memory SIZE    refuse (exit 3, with the estimate) work whose largest allocation, the thesis\n"
+    "                       level's dense RBF system, would exceed SIZE (2G, 512M; default RAM / 8)\n"
     "smooth options (thesis ch. 4: modified mean-curvature flow, then modified Laplacian flow):\n"
     "  --iterations N       iterations in all (default 100: a fifth mean curvature, the rest Laplacian)\n"
     "  --mc-iterations N    iterations of the modified mean-curvature flow\n"
@@ -83,7 +85,7 @@ Command_line parse(int argc, char** argv) {
   cl.command = argv[1];
   static const char* const valued[] = {"--template", "--curves", "--correspondences", "--output",
                                        "--report", "--merge-tolerance", "--kernel",
-                                       "--curve-density", "--max-rounds", "--fine-level",
+                                       "--curve-density", "--max-rounds", "--fine-level", "--max-memory",
                                        "--iterations", "--mc-iterations", "--laplacian-iterations", "--step"};
   for (int i = 2; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -173,8 +175,17 @@ std::string json_number(double v) {
   return os.str();
 }
 
-/// Checks the output paths before any work: the mesh output's format, and neither it nor the
-/// report is an input or the other. Returns the report path ("" when none).
+/// The report of the running command once its path is checked, so that every exit 1 or 3 after
+/// that writes one (main's handlers write a short one when the command did not get to it).
+struct Pending_report {
+  std::string path, command;
+  std::string stage = "read";  ///< the stage running (from the progress callback)
+  bool written = false;
+} pending_report;
+
+/// Checks the output paths before any work: the mesh output's format, that it and the report can
+/// be written (regular files in existing directories), and that neither is an input or the other.
+/// Returns the report path ("" when none).
 std::string check_outputs(const Command_line& cl, const std::vector<std::string>& inputs) {
   const std::string& output = cl.values.at("--output");
   meshfit::mesh_format_of(output);
@@ -183,12 +194,37 @@ std::string check_outputs(const Command_line& cl, const std::vector<std::string>
   const std::string& report_path = cl.values.at("--report");
   meshfit::check_output_path(report_path, inputs);
   meshfit::check_output_path(output, {report_path});
+  pending_report.path = report_path;
+  pending_report.command = cl.command;
   return report_path;
 }
 
 void write_report(const std::string& report_path, const std::string& text) {
-  if (!report_path.empty())
-    meshfit::internal::write_file_atomically(report_path, [&](std::ostream& os) { os << text; });
+  if (report_path.empty()) return;
+  pending_report.written = true;  // (a failure to write it is not retried)
+  meshfit::internal::write_file_atomically(report_path, [&](std::ostream& os) { os << text; });
+}
+
+/// "completed", "failure" and "stage" of a report: `failure` empty when the command completed.
+std::string json_outcome(const std::string& failure, const std::string& stage) {
+  return std::string("  \"completed\": ") + (failure.empty() ? "true" : "false") + ",\n  \"failure\": " +
+         (failure.empty() ? "null" : json_string(failure)) + ",\n  \"stage\": " +
+         (failure.empty() ? "null" : json_string(stage)) + ",\n";
+}
+
+/// The report of a command that failed before it could gather its figures (bad input found after
+/// the paths were checked, out of memory, an unexpected error): written by main.
+void write_failure_report(const std::string& failure, const std::string& stage, int exit_status) noexcept {
+  if (pending_report.path.empty() || pending_report.written) return;
+  try {
+    std::ostringstream js;
+    js << "{\n  \"command\": \"" << pending_report.command << "\",\n  \"meshfit_version\": \"" << MESHFIT_VERSION_STRING
+       << "\",\n" << json_outcome(failure, stage) << "  \"exit_status\": " << exit_status
+       << ",\n  \"timings_s\": {},\n  \"counts\": {}\n}\n";
+    write_report(pending_report.path, js.str());
+  } catch (const std::exception& e) {
+    std::cerr << "meshfit: could not write the report: " << e.what() << "\n";
+  }
 }
 
 /// Writes the output mesh, never over an input or the report.
@@ -205,6 +241,7 @@ void write_output(const Command_line& cl, const meshfit::Mesh_data& out, const s
 
 meshfit::Progress_callback progress_printer(bool quiet) {
   return [quiet](const meshfit::Progress_step& s) {
+    pending_report.stage = s.stage;
     if (!quiet) std::cerr << "meshfit: " << s.stage << ": " << s.step << " (" << s.index + 1 << "/" << s.total << ")\n";
     return true;
   };
@@ -237,6 +274,7 @@ struct Deform_options {
   meshfit::Curve_density density = meshfit::Curve_density::refine;
   meshfit::Fine_level fine_level = meshfit::Fine_level::surface;
   int rounds = 10;
+  std::size_t memory_limit = 0;  ///< bytes; 0: meshfit::default_memory_limit()
 };
 
 Deform_options deform_options(const Command_line& cl) {
@@ -263,6 +301,19 @@ Deform_options deform_options(const Command_line& cl) {
     if (end == r.c_str() || *end != '\0' || v < 1 || v > 1000)
       throw Usage_error{"--max-rounds needs an integer from 1 to 1000, not '" + r + "'"};
     o.rounds = static_cast<int>(v);
+  }
+  if (cl.values.count("--max-memory")) {
+    // A number of bytes, or with a suffix K, M, G or T (powers of 1024).
+    const std::string& m = cl.values.at("--max-memory");
+    char* end = nullptr;
+    double v = std::strtod(m.c_str(), &end);
+    const std::string suffix = end ? end : "";
+    const std::map<std::string, double> units{{"", 1.0}, {"K", 1024.0}, {"M", 1024.0 * 1024}, {"G", 1024.0 * 1024 * 1024},
+                                              {"T", 1024.0 * 1024 * 1024 * 1024}};
+    const auto u = units.find(suffix);
+    if (end == m.c_str() || u == units.end() || !(v * u->second >= 1024 * 1024) || !(v * u->second <= 1e18))
+      throw Usage_error{"--max-memory needs a size such as 2G, 512M or 3e9 (at least 1M), not '" + m + "'"};
+    o.memory_limit = static_cast<std::size_t>(v * u->second);
   }
   return o;
 }
@@ -294,7 +345,7 @@ void read_fit_inputs(const Command_line& cl, Fit_inputs& in) {
 
 int run_deform(const Command_line& cl) {
   require(cl, {"--template", "--curves", "--correspondences", "--output"},
-          {"--report", "--merge-tolerance", "--kernel", "--curve-density", "--max-rounds", "--fine-level"});
+          {"--report", "--merge-tolerance", "--kernel", "--curve-density", "--max-rounds", "--fine-level", "--max-memory"});
   const std::string& template_path = cl.values.at("--template");
   const std::string& curves_path = cl.values.at("--curves");
   const std::string& pairs_path = cl.values.at("--correspondences");
@@ -316,19 +367,31 @@ int run_deform(const Command_line& cl) {
   const bool quiet = cl.quiet;
   const meshfit::Progress_callback progress = progress_printer(quiet);
   meshfit::Deformation_report r;
-  std::string failure;  // a numerical failure, reported with the figures gathered so far
+  std::string failure, stage = "deform";  // a failure, reported with the figures gathered so far
   try {
     r = meshfit::deform_template(
         tm, network, pairs,
         meshfit::parameters::rbf_kernel(kernel, meshfit::parameters::curve_density(
             density, meshfit::parameters::fine_level(options.fine_level, meshfit::parameters::coarse_only(
                 cl.coarse_only, meshfit::parameters::progress(
-                    progress, CGAL::parameters::number_of_iterations(rounds)))))));
+                    progress, meshfit::parameters::memory_limit(
+                        options.memory_limit, CGAL::parameters::number_of_iterations(rounds))))))));
   } catch (const meshfit::Numerical_error& e) {
     failure = e.what();
   } catch (const meshfit::Algorithm_failure& e) {
-    failure = e.what();
+    failure = e.stage() == "deform" ? e.reason() : e.what();
+    stage = e.stage();
   }
+  if (failure.empty() && r.orientation_reversed)
+    failure = meshfit::orientation_reversal_message(r.coarse_affine_determinant);
+  else if (failure.empty() && density == meshfit::Curve_density::refine && !r.dropped_network_vertices.empty())
+    failure = std::to_string(r.dropped_network_vertices.size()) +
+              " network vertices could not be given a mesh vertex of their own (their nearest "
+              "surface points are taken by nearer ones); --curve-density drop accepts that";
+  else if (failure.empty() && r.remaining_flips > 0)
+    failure = std::to_string(r.remaining_flips) + " faces still flip after " + std::to_string(r.flip_rounds) +
+              " rounds of flip prevention (raise --max-rounds, or give more correspondences so that the "
+              "coarse level brings the template closer to the curves)";
   const meshfit::Mesh_data out = meshfit::to_mesh_data(tm);
 
   if (!report_path.empty()) {
@@ -336,8 +399,7 @@ int run_deform(const Command_line& cl) {
     for (std::size_t v : r.mesh_vertex_of_network_vertex) embedded += v != meshfit::Closest_point_assignment::unassigned;
     std::ostringstream js;
     js << "{\n  \"command\": \"deform\",\n  \"meshfit_version\": \"" << MESHFIT_VERSION_STRING << "\",\n"
-       << "  \"completed\": " << (failure.empty() ? "true" : "false") << ",\n"
-       << "  \"failure\": " << (failure.empty() ? "null" : json_string(failure)) << ",\n"
+       << json_outcome(failure, stage)
        << "  \"timings_s\": {\"read\": " << json_number(read_s) << ", \"coarse\": " << json_number(r.coarse_seconds)
        << ", \"fine\": " << json_number(r.fine_seconds) << "},\n"
        << "  \"counts\": {\"correspondences\": " << r.user_pairs << ", \"coarse_auxiliary_pairs\": "
@@ -356,19 +418,6 @@ int run_deform(const Command_line& cl) {
     write_report(report_path, js.str());
   }
   if (!failure.empty()) throw meshfit::Algorithm_failure("deform", failure);
-  if (r.orientation_reversed)
-    throw meshfit::Algorithm_failure(
-        "deform", meshfit::orientation_reversal_message(r.coarse_affine_determinant));
-  if (density == meshfit::Curve_density::refine && !r.dropped_network_vertices.empty())
-    throw meshfit::Algorithm_failure(
-        "deform", std::to_string(r.dropped_network_vertices.size()) +
-                      " network vertices could not be given a mesh vertex of their own (their nearest "
-                      "surface points are taken by nearer ones); --curve-density drop accepts that");
-  if (r.remaining_flips > 0)
-    throw meshfit::Algorithm_failure(
-        "deform", std::to_string(r.remaining_flips) + " faces still flip after " + std::to_string(r.flip_rounds) +
-                      " rounds of flip prevention (raise --max-rounds, or give more correspondences so that the "
-                      "coarse level brings the template closer to the curves)");
   if (!quiet && r.coarse_flipped_faces > 0)
     std::cerr << "meshfit: deform: warning: the coarse level turns " << r.coarse_flipped_faces
               << " faces over relative to its affine part (more or better-spread pairs help)\n";
@@ -407,8 +456,10 @@ int run_partition(const Command_line& cl) {
       meshfit::to_mesh_data(tm, CGAL::parameters::edge_is_constrained_map(curve).face_patch_map(region));
 
   std::ostringstream js;
+  const std::string failure =
+      r.not_embedded.empty() ? "" : std::to_string(r.not_embedded.size()) + " segments could not be made mesh edges";
   js << "{\n  \"command\": \"partition\",\n  \"meshfit_version\": \"" << MESHFIT_VERSION_STRING << "\",\n"
-     << "  \"completed\": " << (r.not_embedded.empty() ? "true" : "false") << ",\n"
+     << json_outcome(failure, "partition")
      << "  \"timings_s\": {\"read\": " << json_number(read_s) << ", \"partition\": " << json_number(r.seconds) << "},\n"
      << "  \"counts\": {\"segments\": " << r.segments << ", \"segments_already_edges\": " << r.existing_edges
      << ", \"segments_embedded_by_walk\": " << r.by_walk << ", \"segments_embedded_by_fallback\": " << r.by_fallback
@@ -546,8 +597,7 @@ int run_smooth(const Command_line& cl) {
   if (!report_path.empty()) {
     std::ostringstream js;
     js << "{\n  \"command\": \"smooth\",\n  \"meshfit_version\": \"" << MESHFIT_VERSION_STRING << "\",\n"
-       << "  \"completed\": " << (failure.empty() ? "true" : "false") << ",\n"
-       << "  \"failure\": " << (failure.empty() ? "null" : json_string(failure)) << ",\n"
+       << json_outcome(failure, "smooth")
        << "  \"timings_s\": {\"read\": " << json_number(read_s) << ", \"smooth\": " << json_number(r.seconds) << "},\n"
        << "  \"counts\": {\"iterations\": " << r.iterations << ", \"mean_curvature_iterations\": " << mc
        << ", \"laplacian_iterations\": " << lap << ", \"fixed_vertices\": " << r.fixed_vertices
@@ -578,7 +628,7 @@ int run_smooth(const Command_line& cl) {
 
 int run_fit(const Command_line& cl) {
   require(cl, {"--template", "--curves", "--correspondences", "--output"},
-          {"--report", "--merge-tolerance", "--kernel", "--curve-density", "--max-rounds", "--fine-level", "--iterations",
+          {"--report", "--merge-tolerance", "--kernel", "--curve-density", "--max-rounds", "--fine-level", "--max-memory", "--iterations",
            "--mc-iterations", "--laplacian-iterations", "--step"});
   if (cl.coarse_only) throw Usage_error{"meshfit fit does not take --coarse-only (use meshfit deform)"};
   const std::vector<std::string> inputs{cl.values.at("--template"), cl.values.at("--curves"),
@@ -592,7 +642,7 @@ int run_fit(const Command_line& cl) {
   auto curve = in.tm.add_property_map<Mesh::Edge_index, bool>("e:meshfit_curve", false).first;
   auto region = in.tm.add_property_map<Mesh::Face_index, int>("f:meshfit_region", 0).first;
   meshfit::Fit_report r;
-  std::string failure, failed_stage;  // a numerical failure, reported with the figures gathered so far
+  std::string failure, stage = "fit";  // a failure, reported with the figures gathered so far
   try {
     r = meshfit::fit_template_to_curves(
         in.tm, in.network, in.pairs,
@@ -602,26 +652,34 @@ int run_fit(const Command_line& cl) {
                     so.laplacian_iterations, meshfit::parameters::step_size(
                         so.step, meshfit::parameters::check_self_intersections(
                             !cl.no_self_intersection_check, meshfit::parameters::progress(
-                                progress_printer(cl.quiet), CGAL::parameters::number_of_iterations(d.rounds)
-                                    .edge_is_constrained_map(curve).face_patch_map(region))))))))));
+                                progress_printer(cl.quiet), meshfit::parameters::memory_limit(
+                                    d.memory_limit, CGAL::parameters::number_of_iterations(d.rounds)
+                                    .edge_is_constrained_map(curve).face_patch_map(region)))))))))));
   } catch (const meshfit::Numerical_error& e) {
     failure = e.what();
+    stage = pending_report.stage;
   } catch (const meshfit::Algorithm_failure& e) {
     failure = e.what();
+    stage = e.stage();
   }
   const meshfit::Mesh_data out =
       meshfit::to_mesh_data(in.tm, CGAL::parameters::edge_is_constrained_map(curve).face_patch_map(region));
   const meshfit::Fit_verification& v = r.verification;
   const std::vector<std::string> problems = v.problems();
+  const bool completed = failure.empty();
+  if (completed && !problems.empty() && !cl.allow_defects) {
+    std::string list;
+    for (std::size_t i = 0; i < problems.size(); ++i) list += (i ? "; " : "") + problems[i];
+    failure = "the result failed verification: " + list + " (--allow-defects writes it anyway)";
+  }
   const meshfit::Deformation_report& dr = r.deformation;
   const meshfit::Partition_report& pr = r.partition;
   const meshfit::Smoothing_report& sr = r.smoothing;
 
   std::ostringstream js;
   js << "{\n  \"command\": \"fit\",\n  \"meshfit_version\": \"" << MESHFIT_VERSION_STRING << "\",\n"
-     << "  \"completed\": " << (failure.empty() ? "true" : "false") << ",\n"
-     << "  \"failure\": " << (failure.empty() ? "null" : json_string(failure)) << ",\n"
-     << "  \"verified\": " << (failure.empty() && problems.empty() ? "true" : "false") << ",\n"
+     << json_outcome(failure, stage)
+     << "  \"verified\": " << (completed && problems.empty() ? "true" : "false") << ",\n"
      << "  \"timings_s\": {\"read\": " << json_number(in.read_seconds) << ", \"deform\": " << json_number(r.deform_seconds)
      << ", \"partition\": " << json_number(r.partition_seconds) << ", \"smooth\": " << json_number(r.smooth_seconds)
      << ", \"verify\": " << json_number(r.verify_seconds) << ", \"total\": " << json_number(r.total_seconds) << "},\n"
@@ -652,18 +710,15 @@ int run_fit(const Command_line& cl) {
   js << "]},\n"
      << "  \"quality\": {\"template_vertices\": " << r.template_vertices << ", \"template_faces\": " << r.template_faces
      << ", \"vertices\": " << out.points.size() << ", \"faces\": " << out.triangles.size()
-     << ", \"minimum_angle_deg\": " << json_number(failure.empty() ? r.minimum_angle_deg : meshfit::minimum_angle_degrees(out))
+     << ", \"minimum_angle_deg\": " << json_number(completed ? r.minimum_angle_deg : meshfit::minimum_angle_degrees(out))
      << ", \"mean_smoothing_displacement\": " << json_number(sr.mean_displacement) << "}\n}\n";
   write_report(report_path, js.str());
 
   if (!failure.empty()) throw meshfit::Algorithm_failure("fit", failure);
-  if (!problems.empty()) {
+  if (!problems.empty() && !cl.quiet) {
     std::string list;
     for (std::size_t i = 0; i < problems.size(); ++i) list += (i ? "; " : "") + problems[i];
-    if (!cl.allow_defects)
-      throw meshfit::Algorithm_failure("fit", "the result failed verification: " + list +
-                                                  " (--allow-defects writes it anyway)");
-    if (!cl.quiet) std::cerr << "meshfit: fit: warning: defects kept (--allow-defects): " << list << "\n";
+    std::cerr << "meshfit: fit: warning: defects kept (--allow-defects): " << list << "\n";
   }
   if (!cl.quiet)
     std::cerr << "meshfit: fit: " << pr.segments << " segments (" << pr.by_walk << " by walk, " << pr.by_fallback
@@ -697,15 +752,19 @@ int main(int argc, char** argv) {
     return usage_error;
   } catch (const meshfit::Invalid_input& e) {
     std::cerr << "meshfit: error: " << e.what() << "\n";
+    write_failure_report(e.what(), pending_report.stage, invalid_input);
     return invalid_input;
   } catch (const meshfit::Algorithm_failure& e) {
     std::cerr << "meshfit: failed: " << e.what() << "\n";
+    write_failure_report(e.what(), e.stage(), algorithm_failed);
     return algorithm_failed;
   } catch (const std::bad_alloc&) {
-    std::cerr << "meshfit: failed: out of memory\n";
+    std::cerr << "meshfit: failed: out of memory (in " << pending_report.stage << "; --max-memory bounds the largest allocations)\n";
+    write_failure_report("out of memory", pending_report.stage, algorithm_failed);
     return algorithm_failed;
   } catch (const std::exception& e) {
     std::cerr << "meshfit: failed: " << e.what() << "\n";
+    write_failure_report(e.what(), pending_report.stage, algorithm_failed);
     return algorithm_failed;
   }
 }

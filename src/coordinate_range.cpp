@@ -1,0 +1,57 @@
+#include <meshfit/coordinate_range.h>
+#include <meshfit/internal/format_number.h>
+#include <meshfit/internal/unit_scale.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace meshfit {
+
+void check_coordinate_range(const Point_3& p, const Input_location& where, const std::string& element) {
+  const double c[3] = {p.x(), p.y(), p.z()};
+  for (int k = 0; k < 3; ++k) {
+    if (!std::isfinite(c[k]))
+      throw Invalid_input(where, element + " has a non-finite coordinate");
+    if (std::abs(c[k]) > max_coordinate)
+      throw Invalid_input(where, element + " has the coordinate " + internal::format_number(c[k]) +
+                                     ", beyond the supported range of +-" + internal::format_number(max_coordinate));
+  }
+}
+
+void check_extent(double diagonal, const Input_location& where, const std::string& what) {
+  if (!(diagonal > 0)) throw Invalid_input(where, "the points of " + what + " all coincide");
+  if (diagonal < min_extent)
+    throw Invalid_input(where, "the extent of " + what + " (bounding-box diagonal " + internal::format_number(diagonal) +
+                                   ") is below the supported " + internal::format_number(min_extent));
+}
+
+namespace internal {
+
+double unit_scale(const Bbox_3& box) {
+  const double d[3] = {box.xmax() - box.xmin(), box.ymax() - box.ymin(), box.zmax() - box.zmin()};
+  const double largest = std::max({d[0], d[1], d[2]});
+  if (!(largest > 0) || !std::isfinite(largest)) return 1;
+  // 2^-e with 2^(e-1) <= largest < 2^e: the box's largest side ends in [0.5, 1).
+  int e = std::ilogb(largest) + 1;
+  const double magnitude = std::max({std::abs(box.xmin()), std::abs(box.xmax()), std::abs(box.ymin()),
+                                     std::abs(box.ymax()), std::abs(box.zmin()), std::abs(box.zmax())});
+  while (e < 0 && std::ldexp(magnitude, -e) > max_coordinate) ++e;
+  return e == 0 ? 1.0 : std::ldexp(1.0, -e);
+}
+
+Curve_network scaled(const Curve_network& network, double s) {
+  std::vector<Curve_network::Polyline> polylines;
+  polylines.reserve(network.polylines().size());
+  for (const auto& ids : network.polylines()) {
+    Curve_network::Polyline pl;
+    pl.reserve(ids.size());
+    for (std::size_t v : ids) pl.push_back(scaled(network.point(v), s));
+    polylines.push_back(std::move(pl));
+  }
+  // The merged points are rebuilt from the vertices, in the same order: the same vertices, segments
+  // and indices.
+  return Curve_network(polylines, network.relative_tolerance());
+}
+
+}  // namespace internal
+}  // namespace meshfit

@@ -1,0 +1,207 @@
+// Issue 13 (reliability), in the library: the supported coordinate range (coordinate_range.h), results
+// that do not depend on the unit of the coordinates, outputs only to regular files, the memory
+// limit of the dense RBF, unused template vertices, numbers in messages. The command line's side
+// is bench/reliability/run.sh (CTest: reliability_table).
+#include <meshfit/coordinate_range.h>
+#include <meshfit/correspondence.h>
+#include <meshfit/fit.h>
+#include <meshfit/internal/format_number.h>
+#include <meshfit/io.h>
+#include <meshfit/memory_limit.h>
+#include <meshfit/rbf.h>
+
+#include <CGAL/Surface_mesh.h>
+
+#include "test_helpers.h"
+
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+
+using Mesh = CGAL::Surface_mesh<meshfit::Point_3>;
+using meshfit::Point_3;
+using namespace meshfit_test;
+
+namespace {
+
+struct Inputs {
+  Mesh tm;
+  meshfit::Curve_network network;
+  std::vector<meshfit::Correspondence> pairs;
+};
+
+/// The embedded example with every coordinate multiplied by `s` (the pairs refer to the same
+/// network vertices: merging is the same at every scale).
+Inputs example(double s = 1) {
+  Inputs in;
+  const std::string d = MESHFIT_EXAMPLE_DATA_DIR;
+  meshfit::read_triangle_mesh(d + "/template.off", in.tm);
+  const meshfit::Curve_network network = meshfit::read_curve_network(d + "/curves.polylines.txt");
+  in.pairs = meshfit::read_correspondences(d + "/pairs.txt", network);
+  for (auto v : in.tm.vertices()) {
+    const Point_3& p = in.tm.point(v);
+    in.tm.point(v) = Point_3(p.x() * s, p.y() * s, p.z() * s);
+  }
+  std::vector<meshfit::Curve_network::Polyline> polylines;
+  for (const auto& ids : network.polylines()) {
+    polylines.emplace_back();
+    for (std::size_t v : ids) {
+      const Point_3& p = network.point(v);
+      polylines.back().emplace_back(p.x() * s, p.y() * s, p.z() * s);
+    }
+  }
+  in.network = meshfit::Curve_network(polylines);
+  return in;
+}
+
+}  // namespace
+
+TEST_CASE("coordinate range: a coordinate beyond 1e100 is refused, naming the element", "[coordinate_range]") {
+  const Point_3 far(0, 2e100, 0);
+  try {
+    meshfit::check_coordinate_range(far, meshfit::Input_location::at_line("c.txt", 3), "polyline 1, point 2");
+    FAIL("no exception");
+  } catch (const meshfit::Invalid_input& e) {
+    CHECK(std::string(e.what()).find("c.txt:3: polyline 1, point 2") == 0);
+    CHECK(std::string(e.what()).find("2e+100") != std::string::npos);
+  }
+  CHECK_NOTHROW(meshfit::check_coordinate_range(Point_3(-1e100, 1e100, 0), {}, "p"));
+  CHECK_THROWS_AS(meshfit::check_coordinate_range(Point_3(0, 0, std::nan("")), {}, "p"), meshfit::Invalid_input);
+  CHECK_THROWS_AS(meshfit::check_extent(0.5e-100, {}, "the mesh"), meshfit::Invalid_input);
+  CHECK_THROWS_AS(meshfit::check_extent(0, {}, "the mesh"), meshfit::Invalid_input);
+  CHECK_NOTHROW(meshfit::check_extent(1e-100, {}, "the mesh"));
+}
+
+TEST_CASE("coordinate range: the readers refuse meshes and networks outside it", "[coordinate_range][io]") {
+  Temp_dir dir;
+  const std::string off = dir.write("t.off", "OFF\n3 1 0\n0 0 0\n1e150 0 0\n0 1 0\n3 0 1 2\n");
+  try {
+    meshfit::read_mesh_data(off);
+    FAIL("no exception");
+  } catch (const meshfit::Invalid_input& e) {
+    CHECK(std::string(e.what()).find("/t.off: vertex 1 ") != std::string::npos);
+  }
+  const std::string tiny = dir.write("s.off", "OFF\n3 1 0\n0 0 0\n1e-150 0 0\n0 1e-150 0\n3 0 1 2\n");
+  CHECK_THROWS_AS(meshfit::read_mesh_data(tiny), meshfit::Invalid_input);
+  const std::string curves = dir.write("c.polylines.txt", "# far\n2 0 0 0 1 1 1\n2 0 0 0 1e200 0 0\n");
+  try {
+    meshfit::read_curve_network(curves);
+    FAIL("no exception");
+  } catch (const meshfit::Invalid_input& e) {
+    CHECK(std::string(e.what()).find("/c.polylines.txt:3: polyline 1, point 2 ") != std::string::npos);
+  }
+}
+
+TEST_CASE("coordinate range: the library refuses a template outside it before any work", "[coordinate_range][fit]") {
+  Inputs in = example();
+  in.tm.point(Mesh::Vertex_index(5)) = Point_3(1e150, 0, 0);
+  const Mesh before = in.tm;
+  CHECK_THROWS_AS(meshfit::fit_template_to_curves(in.tm, in.network, in.pairs), meshfit::Invalid_input);
+  CHECK_THROWS_AS(meshfit::deform_template(in.tm, in.network, in.pairs), meshfit::Invalid_input);
+  CHECK(in.tm.point(Mesh::Vertex_index(5)) == before.point(Mesh::Vertex_index(5)));
+}
+
+TEST_CASE("coordinate range: fit gives the same result at the edges of the range as at scale 1",
+          "[coordinate_range][fit]") {
+  // Powers of two: the scaled inputs are exact, so the result must be the same, scaled.
+  const meshfit::Fit_report base = [] {
+    Inputs in = example();
+    return meshfit::fit_template_to_curves(in.tm, in.network, in.pairs);
+  }();
+  REQUIRE(base.verification.passed());
+  for (const int e : {330, -330, 66, -66}) {
+    INFO("scale 2^" << e);
+    const double s = std::ldexp(1.0, e);
+    Inputs in = example(s);
+    Inputs ref = example();
+    meshfit::fit_template_to_curves(ref.tm, ref.network, ref.pairs);
+    const meshfit::Fit_report r = meshfit::fit_template_to_curves(in.tm, in.network, in.pairs);
+    CHECK(r.verification.passed());
+    CHECK(r.partition.regions == base.partition.regions);
+    REQUIRE(in.tm.number_of_vertices() == ref.tm.number_of_vertices());
+    std::size_t differ = 0;
+    for (auto v : in.tm.vertices()) {
+      const Point_3& p = ref.tm.point(v);
+      differ += in.tm.point(v) != Point_3(p.x() * s, p.y() * s, p.z() * s);
+    }
+    CHECK(differ == 0);
+  }
+}
+
+TEST_CASE("write paths: special files are refused and left alone, a symlink's target is replaced",
+          "[io][write]") {
+  Temp_dir dir;
+  meshfit::Mesh_data m = octahedron();
+  const std::string fifo = dir.file("f.off");
+  REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+  CHECK_THROWS_AS(meshfit::write_mesh_data(fifo, m), meshfit::Invalid_input);
+  CHECK(std::filesystem::is_fifo(fifo));
+  const std::string folder = dir.file("d.off");
+  std::filesystem::create_directory(folder);
+  CHECK_THROWS_AS(meshfit::write_mesh_data(folder, m), meshfit::Invalid_input);
+  CHECK(std::filesystem::is_directory(folder));
+  CHECK_THROWS_AS(meshfit::check_output_path(dir.file("no/such/x.off"), {}), meshfit::Invalid_input);
+  CHECK_THROWS_AS(meshfit::check_output_path(dir.file(std::string(300, 'n') + ".off"), {}), meshfit::Invalid_input);
+  // A symbolic link: its target gets the mesh, the link stays a link.
+  const std::string target = dir.write("target.off", "old\n");
+  const std::string link = dir.file("link.off");
+  std::filesystem::create_symlink("target.off", link);
+  meshfit::write_mesh_data(link, m);
+  CHECK(std::filesystem::is_symlink(link));
+  CHECK(read_text(target).rfind("OFF", 0) == 0);
+  // A 250-character name is valid; the temporary file beside it must not need a longer one.
+  const std::string long_name = dir.file(std::string(246, 'a') + ".off");
+  CHECK_NOTHROW(meshfit::write_mesh_data(long_name, m));
+  CHECK(std::filesystem::is_regular_file(long_name));
+}
+
+TEST_CASE("memory limit: a dense RBF over the limit is refused before it is allocated", "[rbf][memory]") {
+  std::vector<Point_3> c, v;
+  for (int i = 0; i < 40; ++i) {
+    c.emplace_back(std::cos(i * 0.7), std::sin(i * 1.3), std::cos(i * 2.1));
+    v.push_back(c.back());
+  }
+  // 44×44 doubles, twice: about 31 kB.
+  try {
+    meshfit::Rbf_interpolant::fit(c, v, meshfit::Rbf_kernel::linear, {}, nullptr, 16 * 1024);
+    FAIL("no exception");
+  } catch (const meshfit::Algorithm_failure& e) {
+    CHECK(std::string(e.what()).find("31 kB") != std::string::npos);
+  }
+  CHECK_NOTHROW(meshfit::Rbf_interpolant::fit(c, v, meshfit::Rbf_kernel::linear, {}, nullptr, 64 * 1024));
+  CHECK(meshfit::default_memory_limit() > 0);
+}
+
+TEST_CASE("unused vertices: no closest-point candidates, and the thesis level fits a template with copies",
+          "[closest_point][deform]") {
+  // Every template vertex repeated once, the copies unused (coincident with the used ones).
+  Inputs in = example();
+  const std::size_t n = in.tm.number_of_vertices();
+  std::vector<Point_3> copies;
+  for (auto v : in.tm.vertices()) copies.push_back(in.tm.point(v));
+  for (const Point_3& p : copies) in.tm.add_vertex(p);
+  std::vector<bool> used(2 * n, true);
+  std::fill(used.begin() + static_cast<std::ptrdiff_t>(n), used.end(), false);
+  std::vector<Point_3> all = copies;
+  all.insert(all.end(), copies.begin(), copies.end());
+  const meshfit::Closest_point_assignment a =
+      meshfit::closest_point_correspondences(all, in.network, in.pairs, meshfit::Loser_rule::drop, used);
+  for (std::size_t t : a.template_of)
+    if (t != meshfit::Closest_point_assignment::unassigned) CHECK(t < n);
+  const meshfit::Deformation_report r = meshfit::deform_template(
+      in.tm, in.network, in.pairs, meshfit::parameters::fine_level(meshfit::Fine_level::thesis));
+  CHECK(r.remaining_flips == 0);
+  CHECK(in.tm.number_of_vertices() >= 2 * n);
+  // No copy is the mesh vertex of a network vertex.
+  for (std::size_t t : r.mesh_vertex_of_network_vertex)
+    if (t != meshfit::Closest_point_assignment::unassigned) CHECK((t < n || t >= 2 * n));
+}
+
+TEST_CASE("messages: numbers with significant digits", "[messages]") {
+  CHECK(meshfit::internal::format_number(1.2e-17) == "1.2e-17");
+  CHECK(meshfit::internal::format_number(1e-13) == "1e-13");
+  CHECK(meshfit::internal::format_number(0.25) == "0.25");
+  CHECK(meshfit::format_bytes(3.79e9) == "3.79 GB");
+}
