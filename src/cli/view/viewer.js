@@ -42,8 +42,8 @@
     };
   }
   const origin = data.origin;
-  const template = decodeMesh(data.template);
-  const results = data.results.map(decodeMesh);
+  let template = decodeMesh(data.template);
+  let results = data.results.map(decodeMesh);
   const network = {
     name: data.network.name,
     points: new Float64Array(bytes(data.network.points)), // exact coordinates, as saved
@@ -53,21 +53,24 @@
   network.display = new Float32Array(3 * networkCount);
   for (let i = 0; i < 3 * networkCount; ++i) network.display[i] = network.points[i] - origin[i % 3];
 
-  // ---- display decimation: vertex clustering on a grid, only for meshes above the budget --------
-  function decimate(mesh) {
-    if (mesh.faces <= maxDisplayFaces) return;
+  // ---- display decimation: vertex clustering on a grid -----------------------------------------
+  // A mesh above `maxDisplayFaces` is shown decimated. When a full frame takes longer than 40 ms
+  // (software rendering, a weak GPU), the meshes in view are drawn decimated while the view turns,
+  // as many faces as render in about 25 ms, and in full when it stops. The page says both.
+  const orbitFaces = Number(params.get('orbitfaces')) || 300000;
+  function cluster(mesh, budget) {
     const P = mesh.positions, T = mesh.triangles;
     const lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
     for (let i = 0; i < P.length; ++i) { const k = i % 3; lo[k] = Math.min(lo[k], P[i]); hi[k] = Math.max(hi[k], P[i]); }
     const size = Math.max(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]) || 1;
-    let res = Math.floor(Math.sqrt(maxDisplayFaces / (2 * Math.PI)));
-    for (let attempt = 0; attempt < 6; ++attempt, res = Math.floor(res * 0.8)) {
+    // About 2π res² faces on a closed surface in a res³ grid; finer or coarser surfaces retry.
+    let res = Math.max(4, Math.floor(Math.sqrt(budget / (2 * Math.PI))));
+    for (let attempt = 0; ; ++attempt, res = Math.max(2, Math.floor(res * 0.8))) {
       const cell = new Map(), sum = [], first = [];
       const map = new Int32Array(P.length / 3);
+      const index = (x, k) => Math.min(res - 1, Math.floor((x - lo[k]) / size * res));
       for (let v = 0; v < map.length; ++v) {
-        const key = (Math.min(res - 1, Math.floor((P[3 * v] - lo[0]) / size * res)) * res +
-                     Math.min(res - 1, Math.floor((P[3 * v + 1] - lo[1]) / size * res))) * res +
-                     Math.min(res - 1, Math.floor((P[3 * v + 2] - lo[2]) / size * res));
+        const key = (index(P[3 * v], 0) * res + index(P[3 * v + 1], 1)) * res + index(P[3 * v + 2], 2);
         let c = cell.get(key);
         if (c === undefined) { c = first.length; cell.set(key, c); first.push(v); sum.push(0, 0, 0, 0); }
         map[v] = c;
@@ -80,7 +83,7 @@
         tris.push(a, b, c);
         if (mesh.patch) patch.push(mesh.patch[f]);
       }
-      if (tris.length / 3 > maxDisplayFaces && attempt < 5) continue;
+      if (tris.length / 3 > budget && attempt < 5) continue;
       const pos = new Float32Array(3 * first.length);
       for (let c = 0; c < first.length; ++c) for (let k = 0; k < 3; ++k) pos[3 * c + k] = sum[4 * c + k] / sum[4 * c + 3];
       let curves = null;
@@ -92,17 +95,22 @@
         }
         curves = new Uint32Array(e);
       }
-      api.notices.push(mesh.name + ': shown decimated for display (vertex clustering), ' +
-                       (tris.length / 3).toLocaleString('en') + ' of ' + mesh.faces.toLocaleString('en') +
-                       ' faces; the file is unchanged' + (mesh === template ? ' and picks snap to the nearest kept vertex' : ''));
-      mesh.positions = pos; mesh.triangles = new Uint32Array(tris);
-      mesh.patch = mesh.patch ? new Int32Array(patch) : null; mesh.curves = curves;
-      mesh.original = Int32Array.from(first);
-      return;
+      return Object.assign({}, mesh, { positions: pos, triangles: new Uint32Array(tris), patch: mesh.patch ? new Int32Array(patch) : null,
+                                       curves: curves, original: Int32Array.from(first) });
     }
   }
-  decimate(template);
-  results.forEach(decimate);
+  const faceCount = (mesh) => (mesh.triangles.length / 3).toLocaleString('en');
+  const later = []; // notices, shown once the panel is built
+  function decimateForDisplay(mesh) {
+    if (mesh.faces <= maxDisplayFaces) return mesh;
+    const d = cluster(mesh, maxDisplayFaces);
+    later.push(mesh.name + ': shown decimated (vertex clustering), ' + faceCount(d) + ' of ' +
+                     mesh.faces.toLocaleString('en') + ' faces; the file is unchanged' +
+                     (mesh === template ? ', and picks snap to the nearest kept vertex' : ''));
+    return d;
+  }
+  template = decimateForDisplay(template);
+  results = results.map(decimateForDisplay);
 
   // ---- scene -----------------------------------------------------------------------------------
   const container = document.getElementById('view');
@@ -119,6 +127,24 @@
   camera.add(light);
   const controls = new THREE.OrbitControls(camera, renderer.domElement);
   controls.addEventListener('change', render);
+  let turning = false; // while the user turns the view, large meshes may be drawn decimated
+  let fullFrameMs = 0;
+  function useProxies() {
+    if (fullFrameMs < 40) return false;
+    for (const l of [templateLayer].concat(resultLayers)) {
+      const faces = l.mesh.triangles.length / 3;
+      if (l.proxy || !l.group.visible || faces < 40000) continue;
+      const budget = Math.max(20000, Math.min(orbitFaces, faces * 25 / fullFrameMs));
+      const coarse = cluster(l.mesh, budget);
+      l.proxy = surface(coarse, l.flat).surface;
+      l.group.add(l.proxy);
+      notice(l.mesh.name + ': drawn decimated to ' + faceCount(coarse) + ' faces while the view turns (a full frame took ' +
+             Math.round(fullFrameMs) + ' ms), in full when it stops');
+    }
+    return true;
+  }
+  controls.addEventListener('start', () => { turning = useProxies(); update(); });
+  controls.addEventListener('end', () => { turning = false; update(); timeFrame(); });
 
   function regionColour(r) {
     // Golden-angle hues, bright enough that black curve edges stand out on every region.
@@ -166,7 +192,7 @@
     const group = new THREE.Group();
     const s = surface(mesh, flat);
     group.add(s.surface, s.wire);
-    const layer = { mesh: mesh, group: group, surface: s.surface, wire: s.wire, curves: null };
+    const layer = { mesh: mesh, group: group, surface: s.surface, wire: s.wire, curves: null, proxy: null, flat: flat };
     if (mesh.curves) { layer.curves = lines(mesh.positions, mesh.curves, 0x000000); group.add(layer.curves); }
     return layer;
   }
@@ -259,14 +285,17 @@
   function update() {
     applyLayout(state.layout);
     templateLayer.group.visible = state.template;
-    templateLayer.wire.visible = state.wireframe;
     networkLines.visible = state.network;
     networkPoints.visible = state.network && state.networkVertices;
     resultLayers.forEach((l, k) => {
       l.group.visible = k === state.result;
-      l.wire.visible = state.wireframe;
       if (l.curves) l.curves.visible = state.curves;
     });
+    for (const l of [templateLayer].concat(resultLayers)) {
+      l.surface.visible = !(turning && l.proxy);
+      l.wire.visible = state.wireframe && !(turning && l.proxy);
+      if (l.proxy) l.proxy.visible = turning;
+    }
     markerGroup.visible = state.pairs;
     for (const input of layersDiv.querySelectorAll('input[data-layer]')) input.checked = state[input.dataset.layer];
     for (const input of layersDiv.querySelectorAll('input[data-result]')) input.checked = Number(input.dataset.result) === state.result;
@@ -537,13 +566,23 @@
       details.querySelector('pre').textContent = json ? JSON.stringify(json, null, 2) : r.report;
       div.append(details);
     });
-    const notices = document.getElementById('notices');
-    for (const n of api.notices) { const d = document.createElement('div'); d.className = 'notice'; d.textContent = n; notices.append(d); }
   }
 
   // ---- rendering, and what the tests use ---------------------------------------------------------
-  let frames = 0;
-  function render() { renderer.render(scene, camera); ++frames; }
+  function render() { renderer.render(scene, camera); }
+  function timeFrame() {
+    // One full frame, waited for (readPixels), to decide whether turning needs decimated meshes.
+    const gl = renderer.getContext(), start = performance.now();
+    render();
+    gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));
+    fullFrameMs = performance.now() - start;
+  }
+  function notice(text) {
+    api.notices.push(text);
+    const d = document.createElement('div');
+    d.className = 'notice'; d.textContent = text;
+    document.getElementById('notices').append(d);
+  }
   window.addEventListener('resize', resize);
 
   api.setLayers = (s) => { Object.assign(state, s); update(); if ('layout' in s) resetCamera(); render(); };
@@ -552,16 +591,21 @@
   api.pairs = () => pairs.map((p) => [p.t, p.n]);
   api.warnings = () => Array.from(document.querySelectorAll('#warnings .warning')).map((d) => d.textContent);
   api.correspondencesText = correspondencesText;
-  api.screenOf = (kind, i) => {
-    // Where a template or network vertex is drawn, in CSS pixels of the page (to aim clicks).
-    const p = kind === 'template' ? templatePosition(i, new THREE.Vector3()) : networkPosition(i, new THREE.Vector3());
+  api.screenOfPoint = (kind, point) => {
+    // Where a point given in the files' coordinates is drawn beside the template or the network,
+    // in CSS pixels of the page, and the direction to the eye (for tests to aim their clicks).
+    const p = new THREE.Vector3(point[0] - origin[0], point[1] - origin[1], point[2] - origin[2])
+      .applyMatrix4((kind === 'template' ? templateGroup : targetGroup).matrixWorld);
     const q = p.clone().project(camera);
     const r = renderer.domElement.getBoundingClientRect();
-    return { x: r.left + (q.x + 1) / 2 * r.width, y: r.top + (1 - q.y) / 2 * r.height, depth: q.z,
-             world: [p.x, p.y, p.z], camera: [camera.position.x, camera.position.y, camera.position.z] };
+    const eye = camera.position.clone().sub(p);
+    return { x: r.left + (q.x + 1) / 2 * r.width, y: r.top + (1 - q.y) / 2 * r.height, eye: [eye.x, eye.y, eye.z] };
   };
-  api.orbitBenchmark = (n) => {
+  api.orbitBenchmark = (n, asWhileTurning) => {
     // n frames, each turned 360/n degrees about the target; readPixels waits for each frame.
+    timeFrame();
+    turning = !!asWhileTurning && useProxies();
+    update();
     const gl = renderer.getContext(), pixel = new Uint8Array(4);
     const start = performance.now();
     for (let k = 0; k < n; ++k) {
@@ -572,15 +616,19 @@
       gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, pixel);
     }
     const ms = (performance.now() - start) / n;
+    turning = false;
+    update();
     controls.update();
     return ms;
   };
 
   showReports();
+  later.forEach(notice);
   resize();
   update();
   resetCamera();
   pairsChanged();
+  timeFrame();
   api.loadMs = performance.now() - t0;
   api.sinceNavigationMs = performance.now();
   api.ready = true;
