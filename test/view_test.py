@@ -396,6 +396,36 @@ def test_example(browser, meshfit, data, work, check):
           "example: the mirrored set is mirrored by the test's own determinant")
 
 
+def test_command_line(meshfit, data, work, check):
+    template, curves, pairs = (os.path.join(data, f) for f in ("template.off", "curves.polylines.txt", "pairs.txt"))
+    base = [meshfit, "view", "--quiet", "--template", template, "--curves", curves]
+    page = os.path.join(work, "refused.html")
+    if os.path.exists(page):
+        os.remove(page)
+    r = run(base + ["--result-report", pairs, "--result", template, "--output", page])
+    check(r.returncode == 2 and "follows no --result" in r.stderr, "view: a --result-report before any --result is a usage error")
+    r = run(base + ["--output", os.path.join(work, "page.txt")])
+    check(r.returncode == 2 and ".html" in r.stderr, "view: an output that is not .html is a usage error")
+    r = run([meshfit, "fit", "--template", template, "--curves", curves, "--correspondences", pairs, "--result", template,
+             "--output", os.path.join(work, "x.ply")])
+    check(r.returncode == 2, "fit: --result is refused")
+    copy = os.path.join(work, "template-copy.html")
+    shutil.copy(template, copy)
+    r = run([meshfit, "view", "--quiet", "--template", copy, "--curves", curves, "--output", copy])
+    with open(copy) as a, open(template) as b:
+        same = a.read() == b.read()
+    check(r.returncode == 1 and same, "view: an output equal to an input is refused and the input left as it was")
+    bad = os.path.join(work, "pairs-bad.txt")
+    with open(pairs) as f, open(bad, "w") as out:
+        lines = f.read().splitlines()
+        out.write("\n".join(lines[:2] + ["99999" + lines[2][lines[2].index(" "):]] + lines[3:]) + "\n")
+    r = run(base + ["--correspondences", bad, "--output", page])
+    check(r.returncode == 1 and "pairs-bad.txt:3" in r.stderr and "99999" in r.stderr and not os.path.exists(page),
+          "view: a pair's missing template vertex names the line, and no page is left (%s)" % r.stderr.strip())
+    r = run(base + ["--result", os.path.join(work, "missing.ply"), "--output", page])
+    check(r.returncode == 1 and not os.path.exists(page), "view: a missing result is invalid input, no page is left")
+
+
 def test_other_examples(browser, meshfit, data, cgal_meshes, work, check):
     sets = [("peanut", os.path.join(data, "template.off"), os.path.join(data, "curves-2.polylines.txt"),
              os.path.join(data, "pairs-2.txt"), 5),
@@ -512,6 +542,7 @@ def main():
         if args.large:
             test_large(browser, args.meshfit, args.data, args.work, args.large, checker.check)
         else:
+            test_command_line(args.meshfit, args.data, args.work, checker.check)
             test_example(browser, args.meshfit, args.data, args.work, checker.check)
             test_other_examples(browser, args.meshfit, args.data, args.cgal_meshes, args.work, checker.check)
     except Exception as e:  # a broken page or browser is a failure, reported

@@ -236,10 +236,23 @@
     const fov = camera.fov * Math.PI / 180;
     const aspect = camera.aspect;
     const dist = r / Math.sin(Math.min(fov, 2 * Math.atan(Math.tan(fov / 2) * aspect)) / 2) * 0.9;
-    camera.position.copy(sphere.center).addScaledVector(dir, dist);
-    camera.near = dist / 100; camera.far = dist * 10;
-    camera.updateProjectionMatrix();
     controls.target.copy(sphere.center);
+    // The bounding sphere leaves a wide scene small: move in until the box's corners fill 90%.
+    const corners = [];
+    for (let k = 0; k < 8; ++k) corners.push(new THREE.Vector3(k & 1 ? b.max.x : b.min.x, k & 2 ? b.max.y : b.min.y, k & 4 ? b.max.z : b.min.z));
+    let d = dist;
+    for (let round = 0; round < 3; ++round) {
+      camera.position.copy(sphere.center).addScaledVector(dir, d);
+      camera.near = d / 100; camera.far = d * 10;
+      camera.updateProjectionMatrix();
+      camera.lookAt(sphere.center);
+      camera.updateMatrixWorld(true);
+      const extent = Math.max(...corners.map((c) => { const q = c.clone().project(camera); return Math.max(Math.abs(q.x), Math.abs(q.y)); }));
+      d = Math.min(dist, d * Math.max(0.2, extent / 0.9));
+    }
+    camera.position.copy(sphere.center).addScaledVector(dir, d);
+    camera.near = d / 100; camera.far = d * 10;
+    camera.updateProjectionMatrix();
     controls.update();
   }
   function resize() {
