@@ -84,7 +84,7 @@ class Browser:
                         self.events.append(m)
                     self.cond.notify_all()
 
-    def call(self, method, params=None, session=False, timeout=120):
+    def call(self, method, params=None, session=False, timeout=600):
         self.next_id += 1
         i = self.next_id
         m = {"id": i, "method": method, "params": params or {}}

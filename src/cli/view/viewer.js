@@ -8,7 +8,8 @@
   const params = new URLSearchParams(location.search);
   // Above this many faces a mesh is shown decimated (vertex clustering); the page says so.
   const maxDisplayFaces = Number(params.get('maxfaces')) || 1500000;
-  const api = { ready: false, errors: [], notices: [] };
+  const api = { ready: false, errors: [], notices: [], timings: {} };
+  const mark = (what) => { api.timings[what] = Math.round(performance.now() - t0); };
   window.meshfitView = api;
   window.addEventListener('error', (e) => api.errors.push(String(e.message)));
 
@@ -109,6 +110,7 @@
                      (mesh === template ? ', and picks snap to the nearest kept vertex' : ''));
     return d;
   }
+  mark('decoded');
   template = decimateForDisplay(template);
   results = results.map(decimateForDisplay);
 
@@ -210,6 +212,7 @@
   const resultLayers = results.map((r) => { const l = meshLayer(r, [200, 200, 206]); l.group.visible = false; targetGroup.add(l.group); return l; });
   const markerGroup = new THREE.Group();
   scene.add(markerGroup);
+  mark('geometry');
 
   function box(P) {
     const b = new THREE.Box3();
@@ -582,11 +585,19 @@
   }
 
   // ---- rendering, and what the tests use ---------------------------------------------------------
-  function render() { renderer.render(scene, camera); }
+  // Changes ask for a frame; one is drawn per animation frame (a large mesh in software
+  // rendering takes seconds per frame, and loading alone changes the view several times).
+  let frameRequested = false, loaded = false;
+  function render() {
+    if (frameRequested || !loaded) return;
+    frameRequested = true;
+    requestAnimationFrame(() => { frameRequested = false; renderNow(); });
+  }
+  function renderNow() { renderer.render(scene, camera); }
   function timeFrame() {
     // One full frame, waited for (readPixels), to decide whether turning needs decimated meshes.
     const gl = renderer.getContext(), start = performance.now();
-    render();
+    renderNow();
     gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));
     fullFrameMs = performance.now() - start;
   }
@@ -598,8 +609,8 @@
   }
   window.addEventListener('resize', resize);
 
-  api.setLayers = (s) => { Object.assign(state, s); update(); if ('layout' in s) resetCamera(); render(); };
-  api.resetCamera = () => { resetCamera(); render(); };
+  api.setLayers = (s) => { Object.assign(state, s); update(); if ('layout' in s) resetCamera(); renderNow(); };
+  api.resetCamera = () => { resetCamera(); renderNow(); };
   api.state = () => Object.assign({}, state);
   api.pairs = () => pairs.map((p) => [p.t, p.n]);
   api.warnings = () => Array.from(document.querySelectorAll('#warnings .warning')).map((d) => d.textContent);
@@ -625,7 +636,7 @@
       const offset = camera.position.clone().sub(controls.target).applyAxisAngle(new THREE.Vector3(0, 1, 0), 2 * Math.PI / n);
       camera.position.copy(controls.target).add(offset);
       camera.lookAt(controls.target);
-      render();
+      renderNow();
       gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, pixel);
     }
     const ms = (performance.now() - start) / n;
@@ -641,7 +652,10 @@
   update();
   resetCamera();
   pairsChanged();
+  loaded = true;
+  mark('panel');
   timeFrame();
+  mark('first_frame');
   api.loadMs = performance.now() - t0;
   api.sinceNavigationMs = performance.now();
   api.ready = true;
