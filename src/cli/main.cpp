@@ -12,6 +12,8 @@
 #include "../write_file.h"
 #include "view.h"
 
+using meshfit_cli::json_string;
+
 #include <CGAL/Surface_mesh.h>
 
 #include <chrono>
@@ -172,18 +174,6 @@ int run_check(const Command_line& cl) {
             << "problems:              " << (s.problems.empty() ? "none" : "") << "\n";
   for (const std::string& p : s.problems) std::cout << "  - " << p << "\n";
   return success;
-}
-
-std::string json_string(const std::string& text) {
-  std::ostringstream os;
-  os << '"';
-  for (const char c : text) {
-    if (c == '"' || c == '\\') os << '\\' << c;
-    else if (static_cast<unsigned char>(c) < 0x20) os << "\\u" << std::hex << std::setw(4) << std::setfill('0') << int(c) << std::dec;
-    else os << c;
-  }
-  os << '"';
-  return os.str();
 }
 
 std::string json_number(double v) {

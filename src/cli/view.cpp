@@ -21,9 +21,7 @@
 #include <sstream>
 
 namespace meshfit_cli {
-namespace {
 
-/// A JSON string; "</" is written "<\/" so that no text ends the page's <script> element.
 std::string json_string(const std::string& text) {
   std::ostringstream os;
   os << '"';
@@ -39,6 +37,8 @@ std::string json_string(const std::string& text) {
   os << '"';
   return os.str();
 }
+
+namespace {
 
 std::string base_name(const std::string& path) {
   const auto slash = path.find_last_of('/');

@@ -17,6 +17,10 @@ struct View_inputs {
   double merge_tolerance = 1e-9;
 };
 
+/// `text` as a JSON string. "</" is written "<\/", so that the text is also safe inside an HTML
+/// <script> element (the page embeds reports this way).
+std::string json_string(const std::string& text);
+
 /// What went into the page, for the command's summary line.
 struct View_summary {
   std::size_t template_faces = 0;

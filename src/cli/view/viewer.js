@@ -473,7 +473,7 @@
       const d = affineDeterminant(P, Q);
       api.determinant = d;
       if (d < 0) w.push('the pairs mirror the template: the best affine map from the template to the network has determinant ' +
-                        d.toPrecision(3) + ' < 0, so the fitted mesh would be turned inside out');
+                        d.toPrecision(3) + ' < 0 (a reflection): meshfit fit refuses such pairs in stage 1');
     } else api.determinant = null;
     return w;
   }
@@ -510,7 +510,7 @@
       const d = p.set(P[3 * v], P[3 * v + 1], P[3 * v + 2]).applyMatrix4(templateGroup.matrixWorld).distanceToSquared(hit.point);
       if (d < bestD) { bestD = d; best = v; }
     }
-    return { vertex: template.original ? template.original[best] : best, depth: hit.distance };
+    return { vertex: template.original ? template.original[best] : best };
   }
   function pickNetwork(x, y, radius) {
     // The network vertex nearest to the click on the screen (the nearer to the eye on a tie).
