@@ -504,7 +504,7 @@ def test_large(browser, meshfit, data, work, faces, check):
     print("     large: %d faces (template and result), page %.1f MB written in %.2f s, ready in %.2f s (page's own "
           "script %.2f s)" % (n, os.path.getsize(html) / 1e6, written, seconds, browser.js("meshfitView.loadMs") / 1000))
     browser.js("meshfitView.setLayers({template: false, network: false, pairs: false, result: 0})")
-    full = browser.js("meshfitView.orbitBenchmark(3, false)")
+    full = browser.js("meshfitView.orbitBenchmark(2, false)")
     turning = browser.js("meshfitView.orbitBenchmark(10, true)")
     print("     large: software rendering (SwiftShader, %d cores): %.0f ms per frame in full, %.0f ms per frame while "
           "turning" % (os.cpu_count(), full, turning))
