@@ -392,6 +392,11 @@ def test_example(browser, meshfit, data, work, check):
         check(got_flat == want_flat and got_mirror == want_mirror,
               "example: %s pairs: coplanar warning %s (expected %s), mirror warning %s (expected %s)"
               % (label, got_flat, want_flat, got_mirror, want_mirror))
+        r = run([meshfit, "fit", "--quiet", "--template", template, "--curves", curves, "--correspondences", path,
+                 "--output", os.path.join(work, "pairs-%s.ply" % label)])
+        says_refused = any("refuses" in w for w in warnings)
+        check(says_refused == (r.returncode != 0), "example: %s pairs: the page says fit refuses them: %s; meshfit fit "
+              "exits %d" % (label, says_refused, r.returncode))
     check("mirror" in sets and mirrored([tv[p[0]] for p in mirror], [p[1:] for p in mirror]),
           "example: the mirrored set is mirrored by the test's own determinant")
 

@@ -464,10 +464,16 @@
     const Q = pairs.map((p) => [network.points[3 * p.n], network.points[3 * p.n + 1], network.points[3 * p.n + 2]]);
     const sp = spread(P), sq = spread(Q);
     const flat = 1e-3;
-    for (const [s, side] of [[sp, 'template'], [sq, 'network']]) {
-      if (s.thinness < flat) w.push('the pairs\' ' + side + ' vertices are collinear: no map can be fitted through them');
-      else if (s.flatness < flat) w.push('the pairs\' ' + side + ' vertices are coplanar (thickness ' + s.flatness.toExponential(1) +
-                                          ' of their extent): meshfit adds auxiliary pairs off the plane; add a pair off it to decide the orientation yourself');
+    for (const [s, side] of [[sp, 'template'], [sq, 'network']])
+      if (s.thinness < flat) w.push('the pairs\' ' + side + ' vertices are collinear: meshfit fit refuses them');
+    if (sp.thinness >= flat && sq.thinness >= flat) {
+      const thickness = (s) => ' (thickness ' + s.flatness.toExponential(1) + ' of their extent)';
+      if (sq.flatness < flat && sp.flatness >= flat)
+        w.push('the pairs\' network vertices are coplanar' + thickness(sq) + ' but their template vertices are not: ' +
+               'meshfit fit refuses them (the template would be flattened); add a pair off that plane');
+      else if (sp.flatness < flat)
+        w.push('the pairs\' template vertices are coplanar' + thickness(sp) + (sq.flatness < flat ? ', and so are their network vertices' : '') +
+               ': meshfit adds auxiliary pairs off the plane; add a pair off it to decide the orientation yourself');
     }
     if (n >= 4 && sp.flatness >= flat && sq.flatness >= flat) {
       const d = affineDeterminant(P, Q);
