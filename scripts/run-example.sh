@@ -20,4 +20,12 @@ data="$root/examples/data"
   --output "$out/partitioned.ply" --report "$out/partition-report.json"
 "$root/build/meshfit" smooth --quiet --template "$out/partitioned.ply" --curves "$data/curves.polylines.txt" \
   --output "$out/smoothed.ply" --report "$out/smooth-report.json"
-echo "meshfit: outputs written to $out" >&2
+# Everything in one page (open it in a browser): the inputs, the pairs (pick new ones there), and
+# each stage's result with its report.
+"$root/build/meshfit" view --quiet --template "$data/template.off" --curves "$data/curves.polylines.txt" \
+  --correspondences "$data/pairs.txt" \
+  --result "$out/deformed.ply" --result-report "$out/deform-report.json" \
+  --result "$out/partitioned.ply" --result-report "$out/partition-report.json" \
+  --result "$out/smoothed.ply" --result-report "$out/smooth-report.json" \
+  --result "$out/fit.ply" --result-report "$out/fit-report.json" --output "$out/view.html"
+echo "meshfit: outputs written to $out (open $out/view.html in a browser)" >&2

@@ -15,5 +15,5 @@ if [ "${MESHFIT_SKIP_SANITIZE:-0}" != 1 ]; then
     -DMESHFIT_BUILD_EXAMPLES=OFF -DMESHFIT_BUILD_BENCHMARKS=OFF
   (cd "$root/build-asan" && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
      UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-     ctest --output-on-failure --parallel "$jobs" -E install_and_consume)
+     ctest --output-on-failure --parallel "$jobs" -E "install_and_consume|view_browser_large")
 fi

@@ -10,6 +10,9 @@
 #include <meshfit/version.h>
 
 #include "../write_file.h"
+#include "view.h"
+
+using meshfit_cli::json_string;
 
 #include <CGAL/Surface_mesh.h>
 
@@ -36,6 +39,8 @@ const char* const usage_text =
     "  meshfit partition --template M --curves C --output O [--report R.json] [options]\n"
     "  meshfit smooth    --template M [--curves C] --output O [--report R.json] [options]\n"
     "  meshfit check     --template T --curves C --correspondences P\n"
+    "  meshfit view      --template T --curves C [--correspondences P] [--result R [--result-report R.json]]...\n"
+    "                    --output O.html\n"
     "options:\n"
     "  --merge-tolerance X  curve points closer than X times the network's bounding-box diagonal\n"
     "                       are one network vertex (default 1e-9)\n"
@@ -64,6 +69,8 @@ const char* const usage_text =
     "                       (segments not embedded, folded or degenerate faces, self-intersections);\n"
     "                       they are still reported\n"
     "  --no-self-intersection-check  skip the final self-intersection test (the slowest check)\n"
+    "view options: --result (repeatable: fit's output, or one per stage, shown in that order);\n"
+    "  --result-report R.json  the report of the result given before it, shown beside it\n"
     "  --help, --version\n";
 
 struct Usage_error {
@@ -73,6 +80,7 @@ struct Usage_error {
 struct Command_line {
   std::string command;
   std::map<std::string, std::string> values;
+  std::vector<std::string> results, result_reports;  ///< view's repeatable --result, --result-report
   bool quiet = false;
   bool coarse_only = false;
   bool allow_defects = false;
@@ -93,6 +101,18 @@ Command_line parse(int argc, char** argv) {
     if (arg == "--coarse-only") { cl.coarse_only = true; continue; }
     if (arg == "--allow-defects") { cl.allow_defects = true; continue; }
     if (arg == "--no-self-intersection-check") { cl.no_self_intersection_check = true; continue; }
+    if (arg == "--result" || arg == "--result-report") {
+      if (i + 1 >= argc) throw Usage_error{"option " + arg + " needs a value"};
+      if (arg == "--result") {
+        cl.results.push_back(argv[++i]);
+      } else {
+        if (cl.result_reports.size() >= cl.results.size())
+          throw Usage_error{"--result-report " + std::string(argv[i + 1]) + " follows no --result of its own"};
+        cl.result_reports.resize(cl.results.size());
+        cl.result_reports.back() = argv[++i];
+      }
+      continue;
+    }
     bool known = false;
     for (const char* v : valued) known = known || arg == v;
     if (!known) throw Usage_error{"unknown option '" + arg + "'"};
@@ -112,6 +132,8 @@ void require(const Command_line& cl, std::initializer_list<const char*> required
     for (const char* a : allowed) ok = ok || kv.first == a;
     if (!ok) throw Usage_error{"meshfit " + cl.command + " does not take " + kv.first};
   }
+  if (cl.command != "view" && !cl.results.empty())
+    throw Usage_error{"meshfit " + cl.command + " does not take --result"};
 }
 
 double merge_tolerance(const Command_line& cl) {
@@ -154,18 +176,6 @@ int run_check(const Command_line& cl) {
             << "problems:              " << (s.problems.empty() ? "none" : "") << "\n";
   for (const std::string& p : s.problems) std::cout << "  - " << p << "\n";
   return success;
-}
-
-std::string json_string(const std::string& text) {
-  std::ostringstream os;
-  os << '"';
-  for (const char c : text) {
-    if (c == '"' || c == '\\') os << '\\' << c;
-    else if (static_cast<unsigned char>(c) < 0x20) os << "\\u" << std::hex << std::setw(4) << std::setfill('0') << int(c) << std::dec;
-    else os << c;
-  }
-  os << '"';
-  return os.str();
 }
 
 std::string json_number(double v) {
@@ -626,6 +636,34 @@ int run_smooth(const Command_line& cl) {
   return success;
 }
 
+int run_view(const Command_line& cl) {
+  require(cl, {"--template", "--curves", "--output"}, {"--correspondences", "--merge-tolerance"});
+  meshfit_cli::View_inputs in;
+  in.template_path = cl.values.at("--template");
+  in.curves_path = cl.values.at("--curves");
+  if (cl.values.count("--correspondences")) in.correspondences_path = cl.values.at("--correspondences");
+  in.results = cl.results;
+  in.merge_tolerance = merge_tolerance(cl);
+  std::vector<std::string> inputs{in.template_path, in.curves_path};
+  if (!in.correspondences_path.empty()) inputs.push_back(in.correspondences_path);
+  inputs.insert(inputs.end(), cl.results.begin(), cl.results.end());
+  for (std::size_t k = 0; k < cl.result_reports.size(); ++k)
+    if (!cl.result_reports[k].empty()) inputs.push_back(cl.result_reports[k]);
+  // A report belongs to its result: one given for the second result only leaves a gap ("").
+  in.reports = cl.result_reports;
+  const std::string& output = cl.values.at("--output");
+  if (output.size() < 5 || output.compare(output.size() - 5, 5, ".html") != 0)
+    throw Usage_error{"meshfit view writes a .html page, not '" + output + "'"};
+  meshfit::check_output_path(output, inputs);
+  meshfit_cli::View_summary s;
+  meshfit::internal::write_file_atomically(output, [&](std::ostream& os) { s = meshfit_cli::write_view_page(os, in); });
+  if (!cl.quiet)
+    std::cerr << "meshfit: view: wrote " << output << " (template " << s.template_faces << " faces, "
+              << s.network_vertices << " network vertices, " << s.pairs << " pairs, " << cl.results.size()
+              << " results, " << s.result_faces << " faces)\n";
+  return success;
+}
+
 int run_fit(const Command_line& cl) {
   require(cl, {"--template", "--curves", "--correspondences", "--output"},
           {"--report", "--merge-tolerance", "--kernel", "--curve-density", "--max-rounds", "--fine-level", "--max-memory", "--iterations",
@@ -746,6 +784,7 @@ int main(int argc, char** argv) {
     if (cl.command == "deform") return run_deform(cl);
     if (cl.command == "partition") return run_partition(cl);
     if (cl.command == "smooth") return run_smooth(cl);
+    if (cl.command == "view") return run_view(cl);
     throw Usage_error{"unknown command '" + cl.command + "'"};
   } catch (const Usage_error& e) {
     std::cerr << "meshfit: " << e.message << "\n" << usage_text;
