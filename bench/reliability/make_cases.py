@@ -38,16 +38,17 @@ def write_off(path, pts, faces):
             f.write('%d %s\n' % (len(fc), ' '.join(map(str, fc))))
 
 
-def read_polylines(path):
-    out = []
+def records(path):
+    """The tokens of each line of a text input that is neither blank nor a comment."""
     with open(path) as f:
         for line in f:
             t = line.split()
-            if not t or t[0].startswith('#'):
-                continue
-            n = int(t[0])
-            out.append([tuple(float(t[1 + 3 * i + k]) for k in range(3)) for i in range(n)])
-    return out
+            if t and not t[0].startswith('#'):
+                yield t
+
+
+def read_polylines(path):
+    return [[tuple(float(t[1 + 3 * i + k]) for k in range(3)) for i in range(int(t[0]))] for t in records(path)]
 
 
 def write_polylines(path, polys):
@@ -57,14 +58,7 @@ def write_polylines(path, polys):
 
 
 def read_pairs(path):
-    out = []
-    with open(path) as f:
-        for line in f:
-            t = line.split()
-            if not t or t[0].startswith('#'):
-                continue
-            out.append((int(t[0]), (float(t[1]), float(t[2]), float(t[3]))))
-    return out
+    return [(int(t[0]), (float(t[1]), float(t[2]), float(t[3]))) for t in records(path)]
 
 
 def write_pairs(path, pairs):
