@@ -26,6 +26,7 @@
 #include <meshfit/parameters.h>
 #include <meshfit/partition.h>
 #include <meshfit/rbf.h>
+#include <meshfit/untangle.h>
 
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
 #include <CGAL/AABB_traits.h>
@@ -101,6 +102,8 @@ struct Deformation_report {
   Fine_level fine_level = Fine_level::surface;
   // Fine_level::surface
   double largest_projection_distance = 0;   ///< from a network vertex to the coarse surface
+  /// Edges between two curves' vertices split so that every face has a corner free to move.
+  std::size_t edges_split_between_curves = 0;
   /// Network vertices whose surface point, tracked along the curves, is not the nearest point of
   /// the whole coarse surface (internal::tracked_projections).
   std::size_t projections_off_nearest = 0;
@@ -1175,6 +1178,42 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
     ++report.segments_by_shortest_path;
   }
 
+  // Where two chains run side by side, or a chain turns round a triangle, a face has all its
+  // corners on curves: nothing of it can move when the curves take their places, and it folds or
+  // collapses onto a segment. An interior edge that joins two held vertices and is no curve edge
+  // is split at its midpoint, so that every face keeps a free corner to be moved (step 4). When
+  // such faces are a quarter of the mesh, the curves leave the template no room between them:
+  // say so, rather than grow the mesh and untangle what cannot be.
+  {
+    std::size_t all_held = 0, total = 0;
+    for (auto f : faces(tm)) {
+      const auto c = s.corners(f);
+      ++total;
+      if (on_chain[c[0]] && on_chain[c[1]] && on_chain[c[2]]) ++all_held;
+    }
+    if (4 * all_held > total)
+      throw Algorithm_failure("deform", "the curves are denser than the template can hold: " + std::to_string(all_held) +
+                                            " of the " + std::to_string(total) +
+                                            " faces of the embedding have all their corners on curves (" +
+                                            std::to_string(nv) + " network vertices on a template of " +
+                                            std::to_string(template_vertices) +
+                                            "): use a finer template (subdivide it), or sparser curves");
+    std::vector<typename GT::halfedge_descriptor> joining;
+    for (auto e : edges(tm)) {
+      const auto h = halfedge(e, tm);
+      if (get(curve, e) || is_border(h, tm) || is_border(opposite(h, tm), tm)) continue;
+      if (on_chain[get(s.index, source(h, tm))] && on_chain[get(s.index, target(h, tm))]) joining.push_back(h);
+    }
+    for (auto h : joining) {
+      const std::size_t a = get(s.index, source(h, tm)), b = get(s.index, target(h, tm));
+      s.split_edge_at(h, CGAL::midpoint(s.to_point(source(h, tm)), s.to_point(target(h, tm))));
+      reference_normal.push_back(reference_normal[a] + reference_normal[b]);
+      on_chain.push_back(false);
+      is_network_vertex.push_back(false);
+    }
+    report.edges_split_between_curves = joining.size();
+  }
+
   // 3. Targets: network vertices at their points, chain vertices on their segments.
   internal::report_progress(progress, "deform", "fine: moving the curves into place (thin-plate displacement)", 2, 4);
   const std::vector<Point_3> before = s.positions();
@@ -1269,26 +1308,63 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
   auto flipped = bad_faces();
   report.flips_found = flipped.size();
   report.flip_rounds = 1;
-  // Relaxation pulls vertices towards their neighbours' mean, which also shrinks what it relaxes:
-  // rings grow only a little, and the best state seen is kept.
-  std::vector<Point_3> best = after;
-  std::pair<std::size_t, std::size_t> best_bad{serious, flipped.size()};
-  constexpr std::size_t max_rings = 3;
-  for (std::size_t round = 0; !flipped.empty() && round < max_rounds; ++round) {
-    std::vector<bool> relax(n, false);
+  // The free vertices of the bad faces and those up to `rings` edges away from them.
+  auto rings_around = [&](const std::vector<typename GT::face_descriptor>& bad, std::size_t rings) {
+    std::vector<bool> in(n, false);
     std::vector<std::size_t> ring;
-    for (auto f : flipped)
+    for (auto f : bad)
       for (std::size_t c : s.corners(f))
-        if (!constrained[c] && !relax[c]) relax[c] = true, ring.push_back(c);
-    for (std::size_t grow = 0; grow < std::min(round + 1, max_rings); ++grow) {
+        if (!constrained[c] && !in[c]) in[c] = true, ring.push_back(c);
+    for (std::size_t grow = 0; grow < rings; ++grow) {
       std::vector<std::size_t> next_ring;
       for (std::size_t i : ring)
         for (std::size_t k = adjacency.offsets[i]; k < adjacency.offsets[i + 1]; ++k) {
           const std::size_t j = adjacency.neighbours[k];
-          if (!constrained[j] && !relax[j]) relax[j] = true, next_ring.push_back(j);
+          if (!constrained[j] && !in[j]) in[j] = true, next_ring.push_back(j);
         }
       ring.swap(next_ring);
     }
+    return in;
+  };
+  // 4a. A foldover-free energy (untangle_faces) on the free vertices within a few rings of the bad
+  // faces, the rings growing while faces stay bad; each face judged in the plane of the reference
+  // normal it is judged against here, each vertex moving in the plane of its own. The border
+  // stays where it is. A result is kept only when it leaves fewer bad faces.
+  if (!flipped.empty()) {
+    std::vector<std::array<std::size_t, 3>> corners;
+    std::vector<Vector_3> face_normal;
+    for (auto f : faces(tm)) {
+      const auto c = s.corners(f);
+      corners.push_back(c);
+      face_normal.push_back(reference_normal[c[0]] + reference_normal[c[1]] + reference_normal[c[2]]);
+    }
+    for (std::size_t rings : {2, 6}) {
+      std::vector<bool> free = rings_around(flipped, rings);
+      for (std::size_t i = 0; i < n; ++i)
+        if (free[i] && is_border(s.vertex[i], tm)) free[i] = false;
+      Untangle_report untangled;
+      std::vector<Point_3> trial = untangle_faces(after, corners, face_normal, free, reference_normal, 1.0, &untangled);
+      report.untangled_vertices += untangled.free_vertices;
+      const std::pair<std::size_t, std::size_t> was{serious, flipped.size()};
+      std::swap(after, trial);
+      auto now = bad_faces();
+      if (std::make_pair(serious, now.size()) < was) {
+        flipped = std::move(now);
+      } else {
+        std::swap(after, trial);
+        flipped = bad_faces();
+      }
+      ++report.untangle_rounds;
+      if (flipped.empty()) break;
+    }
+  }
+  // 4b. Relaxation pulls vertices towards their neighbours' mean, which also shrinks what it
+  // relaxes: rings grow only a little, and the best state seen is kept.
+  std::vector<Point_3> best = after;
+  std::pair<std::size_t, std::size_t> best_bad{serious, flipped.size()};
+  constexpr std::size_t max_rings = 3;
+  for (std::size_t round = 0; !flipped.empty() && round < max_rounds; ++round) {
+    const std::vector<bool> relax = rings_around(flipped, std::min(round + 1, max_rings));
     std::vector<std::size_t> moving;
     for (std::size_t i = 0; i < n; ++i)
       if (relax[i]) moving.push_back(i);
@@ -1304,7 +1380,7 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
         after[i] = Point_3(x / deg, y / deg, z / deg);
       }
     flipped = bad_faces();
-    report.untangle_rounds = round + 1;
+    ++report.untangle_rounds;
     report.flip_rounds = round + 2;
     report.flips_found += flipped.size();
     if (std::make_pair(serious, flipped.size()) < best_bad) best = after, best_bad = {serious, flipped.size()};

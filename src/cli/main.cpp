@@ -265,6 +265,7 @@ std::string json_fine_level(const meshfit::Deformation_report& r) {
     js << ", \"largest_projection_distance\": " << json_number(r.largest_projection_distance)
        << ", \"segments_embedded\": " << r.segments_embedded << ", \"segments_not_embedded\": "
        << r.segments_not_embedded.size() << ", \"segments_by_shortest_path\": " << r.segments_by_shortest_path
+       << ", \"edges_split_between_curves\": " << r.edges_split_between_curves
        << ", \"projections_off_nearest\": " << r.projections_off_nearest << ", \"displacement_free_vertices\": " << r.displacement.free_vertices
        << ", \"untangle_rounds\": " << r.untangle_rounds << ", \"untangled_vertices\": " << r.untangled_vertices
        << ", \"remaining_folds\": " << r.remaining_folds;
