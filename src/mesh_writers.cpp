@@ -256,20 +256,22 @@ void write_vtp(std::ostream& os, const Mesh_data& mesh) {
   w << "</Piece>\n</PolyData>\n</VTKFile>\n";
 }
 
+// Legacy VTK as an unstructured grid (meshio reads no legacy POLYDATA; f3d and ParaView read both):
+// the same cells and cell data as write_vtp, lines (VTK_LINE, 3) before triangles (VTK_TRIANGLE, 5).
 void write_vtk(std::ostream& os, const Mesh_data& mesh) {
   if (mesh.points.size() > static_cast<std::size_t>(INT32_MAX))
     throw Invalid_input("VTK output is limited to 2^31-1 vertices");
   Number_writer w(os);
   const std::size_t nl = mesh.curve_edges.size(), nt = mesh.triangles.size();
-  w << "# vtk DataFile Version 4.2\nwritten by meshfit: cell data region and curve\nASCII\nDATASET POLYDATA\n"
-    << "POINTS " << mesh.points.size() << " double\n";
+  w << "# vtk DataFile Version 4.2\nwritten by meshfit: cell data region and curve\nASCII\n"
+    << "DATASET UNSTRUCTURED_GRID\nPOINTS " << mesh.points.size() << " double\n";
   for (const Point_3& p : mesh.points) w << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
-  if (nl > 0) {
-    w << "LINES " << nl << ' ' << 3 * nl << '\n';
-    for (const auto& e : mesh.curve_edges) w << "2 " << e[0] << ' ' << e[1] << '\n';
-  }
-  w << "POLYGONS " << nt << ' ' << 4 * nt << '\n';
+  w << "CELLS " << nl + nt << ' ' << 3 * nl + 4 * nt << '\n';
+  for (const auto& e : mesh.curve_edges) w << "2 " << e[0] << ' ' << e[1] << '\n';
   for (const auto& t : mesh.triangles) w << "3 " << t[0] << ' ' << t[1] << ' ' << t[2] << '\n';
+  w << "CELL_TYPES " << nl + nt << '\n';
+  for (std::size_t e = 0; e < nl; ++e) w << "3\n";
+  for (std::size_t f = 0; f < nt; ++f) w << "5\n";
   w << "CELL_DATA " << nl + nt << "\nSCALARS region int 1\nLOOKUP_TABLE default\n";
   for (std::size_t e = 0; e < nl; ++e) w << "-1\n";
   for (std::size_t f = 0; f < nt; ++f) w << (mesh.face_patch.empty() ? 0 : mesh.face_patch[f]) << '\n';

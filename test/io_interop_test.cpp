@@ -225,8 +225,8 @@ TEST_CASE("io interop: .vtp and .vtk hold regions and curve flags as cell data, 
   CHECK(vtp.find("Name=\"curve\"") != std::string::npos);
   meshfit::write_mesh_data(dir.file("q.vtk"), m);
   const std::string vtk = read_text(dir.file("q.vtk"));
-  CHECK(vtk.find("LINES 8 24") != std::string::npos);
-  CHECK(vtk.find("POLYGONS 32 128") != std::string::npos);
+  CHECK(vtk.find("CELLS 40 152") != std::string::npos);
+  CHECK(vtk.find("CELL_TYPES 40\n3\n") != std::string::npos);
   CHECK(vtk.find("CELL_DATA 40") != std::string::npos);
   // Not a template format: reading one is refused, naming the file.
   meshfit_test::require_invalid([&] { meshfit::read_mesh_data(dir.file("q.vtp")); }, 0, "output format only");

@@ -33,7 +33,8 @@
 
 namespace meshfit {
 
-/// File formats. `vtp` (VTK XML PolyData) and `vtk` (legacy VTK PolyData) are output formats only.
+/// File formats. `vtp` (VTK XML PolyData) and `vtk` (legacy VTK, an unstructured grid) are output
+/// formats only.
 enum class Mesh_format { off, obj, ply, stl, vtp, vtk };
 
 /// The format named by the file's extension (`.off`, `.obj`, `.ply`, `.stl`, `.vtp`, `.vtk`, any

@@ -227,7 +227,7 @@ Parsed parse(int argc, char** argv) {
     // Help of the command named on the line, or of meshfit.
     const CLI::App* shown = &app;
     for (const CLI::App* sub : app.get_subcommands()) shown = sub;
-    std::cout << app.help(shown == &app ? "" : shown->get_name());
+    std::cout << (shown == &app ? app.help() : shown->help("meshfit"));
     parsed.exit_now = true;
     return parsed;
   } catch (const CLI::CallForVersion& e) {
@@ -841,6 +841,10 @@ int run_smooth(const Command_line& cl) {
   const auto t0 = std::chrono::steady_clock::now();
   meshfit::Mesh_read_report read_report;
   meshfit::Mesh_data data = meshfit::read_mesh_data(template_path, &read_report);
+  // partition's output keeps its curve edges beside it unless --curves-in-mesh: they are the
+  // constraints all the same.
+  const std::string curves_beside = meshfit_cli::add_curve_edges_beside(data, template_path);
+  if (!curves_beside.empty()) pending_report.inputs["curve_edges"] = curves_beside;
   if (data.triangles.empty())
     throw meshfit::Invalid_input(meshfit::Input_location{template_path, 0, meshfit::Input_location::no_offset},
                                  "the template has no face");
@@ -924,6 +928,7 @@ int run_smooth(const Command_line& cl) {
                                      {"max", number(r.max_displacement)},
                                      {"last_iteration_max", number(r.last_step_max_displacement)}};
     if (!ignored_edges.empty()) js["warnings"].push_back(ignored_edges);
+    if (!curves_beside.empty()) js["warnings"].push_back("curve edges read from " + curves_beside);
     if (segments > matched_segments)
       js["warnings"].push_back(std::to_string(segments - matched_segments) + " of " + std::to_string(segments) +
                                " network segments are not mesh edges");
@@ -932,6 +937,8 @@ int run_smooth(const Command_line& cl) {
   }
   progress_display.finish();
   if (!quiet && !ignored_edges.empty()) std::cerr << "meshfit: smooth: warning: " << ignored_edges << "\n";
+  if (!quiet && !curves_beside.empty())
+    std::cerr << "meshfit: smooth: curve edges read from " << curves_beside << "\n";
   if (!failure.empty()) throw meshfit::Algorithm_failure("smooth", failure);
   if (!quiet && segments > matched_segments)
     std::cerr << "meshfit: smooth: warning: " << segments - matched_segments << " of " << segments

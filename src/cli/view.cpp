@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <map>
@@ -132,11 +133,22 @@ std::string write_mesh(Blobs& blobs, const meshfit::Mesh_data& mesh, const std::
   return js.str();
 }
 
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw meshfit::Invalid_input(meshfit::Input_location{path, 0, meshfit::Input_location::no_offset},
+                                        "cannot be read");
+  std::ostringstream os;
+  os << in.rdbuf();
+  return os.str();
+}
+
+}  // namespace
+
 /// A result written without curve edges in the mesh file has them beside it
 /// (`<result>.curves.polylines.txt`, written with exact decimals): their points are vertices.
-void add_curve_edges_beside(meshfit::Mesh_data& mesh, const std::string& path) {
+std::string add_curve_edges_beside(meshfit::Mesh_data& mesh, const std::string& path) {
   const std::string beside = meshfit::curve_edges_path(path);
-  if (!mesh.curve_edges.empty() || !std::ifstream(beside)) return;
+  if (!mesh.curve_edges.empty() || !std::filesystem::is_regular_file(beside)) return "";
   const meshfit::Curve_network curves = meshfit::read_curve_network(beside);
   std::map<std::array<double, 3>, std::size_t> vertex_at;
   for (std::size_t i = 0; i < mesh.points.size(); ++i)
@@ -153,18 +165,9 @@ void add_curve_edges_beside(meshfit::Mesh_data& mesh, const std::string& path) {
     }
     mesh.curve_edges.push_back(e);
   }
+  return beside;
 }
 
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw meshfit::Invalid_input(meshfit::Input_location{path, 0, meshfit::Input_location::no_offset},
-                                        "cannot be read");
-  std::ostringstream os;
-  os << in.rdbuf();
-  return os.str();
-}
-
-}  // namespace
 
 View_summary write_view_page(std::ostream& os, const View_inputs& in) {
   View_summary summary;
