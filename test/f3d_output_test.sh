@@ -2,7 +2,8 @@
 # CTest f3d_output: fits the embedded example to .vtp and .vtk and renders each with f3d (offscreen,
 # under xvfb-run), coloured by the output's own cell data `region` (the curve lines, region -1,
 # come out black); the pictures are checked by check_pictures.py (decode, size, not blank, curves
-# drawn, at least 4 region hues).
+# drawn, at least 4 region hues). A rainbow colour map (f3d's default runs black-red-yellow, too few
+# hues to tell 12 regions apart) keeps black for region -1, the lines.
 #   f3d_output_test.sh MESHFIT OUT_DIR
 # Exits 77 (skipped) when f3d, python3, or xvfb-run without a display is missing.
 set -euo pipefail
@@ -26,7 +27,8 @@ for ext in vtp vtk; do
   "$meshfit" fit --quiet --template "$data/template.off" --curves "$data/curves.polylines.txt" \
     --correspondences "$data/pairs.txt" --output "$out/fit.$ext"
   "${run[@]}" f3d --dry-run --quiet --output="$out/fit-$ext.png" --resolution=800,600 \
-    --scalars=region --cells --line-width=4 --bg-color=1,1,1 "$out/fit.$ext"
+    --scalars=region --cells --line-width=4 --bg-color=1,1,1 \
+    --colormap=0,0,0,0,0.08,1,0,0,0.3,1,1,0,0.5,0,1,0,0.7,0,1,1,0.85,0,0,1,1,1,0,1 "$out/fit.$ext"
   pictures+=("$out/fit-$ext.png")
 done
 "$python" "$root/test/check_pictures.py" --size 800,600 --regions fit-vtp.png,fit-vtk.png "${pictures[@]}"
