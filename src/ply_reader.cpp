@@ -168,8 +168,9 @@ Ply_header parse_header(Line_reader& in) {
       throw Invalid_input(at, "the vertex element needs properties x, y and z");
     if (e.name == "face" && !has(Role::face_indices))
       throw Invalid_input(at, "the face element needs a list property vertex_indices");
-    if (e.name == "edge" && !(has(Role::edge_v1) && has(Role::edge_v2)))
-      throw Invalid_input(at, "the edge element needs properties vertex1 and vertex2");
+    // (An edge element without the curve flag lists no curve edge and is skipped, whatever it holds.)
+    if (e.name == "edge" && has(Role::curve_flag) && !(has(Role::edge_v1) && has(Role::edge_v2)))
+      throw Invalid_input(at, "the edge element has a curve flag and needs properties vertex1 and vertex2");
   }
   return h;
 }

@@ -231,3 +231,35 @@ TEST_CASE("io interop: .vtp and .vtk hold regions and curve flags as cell data, 
   // Not a template format: reading one is refused, naming the file.
   meshfit_test::require_invalid([&] { meshfit::read_mesh_data(dir.file("q.vtp")); }, 0, "output format only");
 }
+
+TEST_CASE("io interop: a PLY edge element without a curve flag is skipped whatever it holds; a bad flag is an error", "[io][interop]") {
+  const std::string head = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                           "element face 1\nproperty list uchar int vertex_indices\n";
+  const std::string body = "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  meshfit::Mesh_read_report report;
+  const meshfit::Mesh_data m = meshfit::parse_mesh_data(
+      head + "element edge 2\nproperty list uchar int vertex_indices\nend_header\n" + body + "2 0 1\n2 1 2\n",
+      meshfit::Mesh_format::ply, "e.ply", &report);
+  CHECK(m.curve_edges.empty());
+  CHECK(report.unflagged_edges_ignored == 2);
+  const meshfit::Mesh_data flagged = meshfit::parse_mesh_data(
+      head + "element edge 2\nproperty int vertex1\nproperty int vertex2\nproperty uchar curve\nend_header\n" + body +
+          "0 1 1\n1 2 0\n",
+      meshfit::Mesh_format::ply, "f.ply", &report);
+  CHECK(flagged.curve_edges == std::vector<std::array<std::size_t, 2>>{{0, 1}});
+  CHECK(report.unflagged_edges_ignored == 1);
+  meshfit_test::require_invalid(
+      [&] {
+        meshfit::parse_mesh_data(head + "element edge 1\nproperty int vertex1\nproperty int vertex2\nproperty float curve\n"
+                                        "end_header\n" + body + "0 1 1\n",
+                                 meshfit::Mesh_format::ply, "g.ply");
+      },
+      12, "curve");
+  meshfit_test::require_invalid(
+      [&] {
+        meshfit::parse_mesh_data(head + "element edge 1\nproperty int vertex1\nproperty int curve\nend_header\n" + body +
+                                     "0 1\n",
+                                 meshfit::Mesh_format::ply, "h.ply");
+      },
+      9, "vertex1 and vertex2");
+}

@@ -379,8 +379,11 @@ class Progress_display {
     m_step = s.step;
     m_last_draw = now;
     const auto [begin, end] = span(s.stage);
-    const double within = s.total > 0 ? double(s.index) / double(s.total) : 0.0;
-    const int percent = static_cast<int>(100 * (begin + (end - begin) * within));
+    double within = s.total > 0 ? double(s.index) / double(s.total) : 0.0;
+    // deform numbers its coarse and its fine steps from 0 each: the coarse level is the first fifth.
+    if (s.stage == "deform") within = s.step.compare(0, 5, "fine:") == 0 ? 0.2 + 0.8 * within : 0.2 * within;
+    m_percent = std::max(m_percent, static_cast<int>(100 * (begin + (end - begin) * within)));
+    const int percent = m_percent;
     std::ostringstream line;
     line << "meshfit " << m_command << ' ' << std::setw(3) << percent << "%  " << std::fixed << std::setprecision(1)
          << elapsed << " s  " << s.stage << ": " << s.step;
@@ -404,6 +407,7 @@ class Progress_display {
  private:
   std::string m_command, m_stage, m_step;
   bool m_quiet = true, m_tty = false, m_line_shown = false;
+  int m_percent = 0;  ///< never goes back
   std::chrono::steady_clock::time_point m_start, m_last_draw;
 } progress_display;
 
