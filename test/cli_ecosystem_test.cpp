@@ -100,6 +100,18 @@ TEST_CASE("cli ecosystem: --opt=value works and typos get a suggestion", "[cli][
   CHECK(command.err.find("did you mean smooth?") != std::string::npos);
   // An option given twice is a usage error, as before.
   CHECK(run(dir, "fit" + example_inputs + " --output o.ply --output p.ply").status == 2);
+  // view's --result takes one value per occurrence, and a --result-report belongs to the --result before it.
+  const std::string view = "view --quiet --template " + q(data + "/template.off") + " --curves " +
+                           q(data + "/curves.polylines.txt") + " --output v.html";
+  REQUIRE(run(dir, "fit --quiet" + example_inputs + " --output f.ply --report f.json").status == 0);
+  CHECK(run(dir, view + " --result f.ply f.ply").status == 2);
+  CHECK(run(dir, view + " --result-report f.json --result f.ply").status == 2);
+  REQUIRE(run(dir, view + " --result f.ply --result=f.ply --result-report=f.json").status == 0);
+  const std::string page = read_text(dir.file("v.html"));
+  const std::size_t no_report = page.find("\"report_name\": null"), report = page.find("\"report_name\": \"f.json\"");
+  CHECK(no_report != std::string::npos);
+  CHECK(report != std::string::npos);
+  CHECK(no_report < report);
 }
 
 TEST_CASE("cli ecosystem: output paths are checked before any work", "[cli][ecosystem]") {

@@ -207,9 +207,10 @@ Parsed parse(int argc, char** argv) {
       if (!o.value) {
         opt = sub->add_flag(name, flags[key], o.help);
       } else if (std::string(name) == "--result") {
-        opt = sub->add_option(name, results, o.help)->type_name(o.value);
+        // One value per occurrence (repeat the option), so that reports pair with results.
+        opt = sub->add_option(name, results, o.help)->type_name(o.value)->expected(1)->allow_extra_args(false)->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
       } else if (std::string(name) == "--result-report") {
-        opt = sub->add_option(name, result_reports, o.help)->type_name(o.value);
+        opt = sub->add_option(name, result_reports, o.help)->type_name(o.value)->expected(1)->allow_extra_args(false)->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
       } else {
         opt = sub->add_option(name, holder[key], o.help)->type_name(o.value);
         opt->multi_option_policy(CLI::MultiOptionPolicy::Throw);
