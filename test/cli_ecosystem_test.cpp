@@ -293,3 +293,28 @@ TEST_CASE("cli ecosystem: meshfit's outputs fed back as curves; pairs by network
   CHECK(bad.err.find("bad-index.txt:2: ") != std::string::npos);
   CHECK(bad.err.find("@999 does not exist") != std::string::npos);
 }
+
+TEST_CASE("cli ecosystem: on a terminal, progress is one line that rewrites itself, its percentage rising", "[cli][ecosystem]") {
+  Temp_dir dir;
+  if (std::system("command -v script > /dev/null 2>&1") != 0) {
+    WARN("util-linux's script is missing: the terminal case is not run");
+    return;
+  }
+  // script(1) gives the command a pseudo-terminal; what the terminal received lands in typescript.
+  const std::string command = std::string("'") + MESHFIT_CLI + "' fit" + example_inputs + " --output o.ply";
+  const std::string cmd = "cd '" + dir.file("") + "' && script -qec " + q(command) + " typescript > /dev/null 2>&1 < /dev/null";
+  REQUIRE(std::system(cmd.c_str()) == 0);
+  const std::string tty = read_text(dir.file("typescript"));
+  std::vector<int> percents;
+  for (std::size_t p = tty.find("\r\033[Kmeshfit fit "); p != std::string::npos; p = tty.find("\r\033[Kmeshfit fit ", p + 1))
+    percents.push_back(std::stoi(tty.substr(p + 16, 3)));
+  INFO(tty);
+  CHECK(percents.size() >= 5);
+  CHECK(std::is_sorted(percents.begin(), percents.end()));
+  CHECK(!percents.empty());
+  if (!percents.empty()) CHECK(percents.back() >= 90);
+  CHECK(tty.find(" s  smooth: iteration") != std::string::npos);  // elapsed seconds, then the stage
+  // The rewriting line ends before the summary, which is plain lines.
+  CHECK(tty.find("\r\033[Kmeshfit: fit: ") != std::string::npos);
+  CHECK(tty.find("meshfit: smooth: iteration (1/100)\n") == std::string::npos);
+}
