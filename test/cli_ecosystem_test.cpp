@@ -276,6 +276,27 @@ TEST_CASE("cli ecosystem: meshfit's outputs fed back as curves; pairs by network
     CHECK(read_text(dir.file("again.ply")) == read_text(dir.file("p.ply")));
   }
 
+  // smooth takes the curve edges beside its input as constraints: their vertices do not move.
+  const Run_result sm = run(dir, "smooth --iterations 10 --template p.ply --output s.ply --report s.json");
+  INFO(sm.err);
+  REQUIRE(sm.status == 0);
+  CHECK(sm.err.find("curve edges read from p.ply.curves.polylines.txt") != std::string::npos);
+  const Json sj = read_json(dir.file("s.json"));
+  CHECK(sj["inputs"]["curve_edges"] == "p.ply.curves.polylines.txt");
+  CHECK(sj["counts"]["curve_edges"] == reference["counts"]["curve_edges"]);
+  const meshfit::Mesh_data p_mesh = meshfit::read_mesh_data(dir.file("p.ply"));
+  const meshfit::Mesh_data s_mesh = meshfit::read_mesh_data(dir.file("s.ply"));
+  const meshfit::Curve_network p_curves = meshfit::read_curve_network(dir.file("p.ply.curves.polylines.txt"));
+  std::size_t on_curves = 0, moved = 0;
+  for (std::size_t i = 0; i < p_mesh.points.size(); ++i) {
+    const bool fixed = p_curves.find_vertex(p_mesh.points[i]).has_value();
+    on_curves += fixed;
+    if (fixed) CHECK(s_mesh.points[i] == p_mesh.points[i]);
+    else moved += s_mesh.points[i] != p_mesh.points[i];
+  }
+  CHECK(on_curves == p_curves.number_of_vertices());
+  CHECK(moved > (p_mesh.points.size() - on_curves) / 2);
+
   // Pairs as `i @k`: the same fit as with coordinates.
   const meshfit::Curve_network network = meshfit::read_curve_network(data + "/curves.polylines.txt");
   std::string by_index = "# template vertex, network vertex by index\n";
