@@ -177,8 +177,10 @@ TEST_CASE("cli ecosystem: every report has the same top-level keys, those of doc
                      q(data + "/curves.polylines.txt") + " --output y.ply --report x3.json").status == 1);
   CHECK(run(dir, "deform --quiet --fine-level thesis --max-rounds 1" + example_inputs + " --output z.ply --report x4.json")
             .status == 3);
+  // A usage error found after the paths were checked (a bad option value): exit 2, and the report.
+  CHECK(run(dir, "deform --quiet --kernel gaussian" + example_inputs + " --output u.ply --report x2.json").status == 2);
   std::vector<std::string> first;
-  for (const std::string name : {"d", "p", "s", "f", "x1", "x3", "x4"}) {
+  for (const std::string name : {"d", "p", "s", "f", "x1", "x2", "x3", "x4"}) {
     INFO(name);
     const Json j = read_json(dir.file(name + ".json"));
     const std::vector<std::string> keys = keys_of(j);
@@ -191,7 +193,7 @@ TEST_CASE("cli ecosystem: every report has the same top-level keys, those of doc
     const bool ok = name.size() == 1;
     CHECK(j["completed"] == ok);
     CHECK(j["failure"].is_null() == ok);
-    CHECK(j["exit_status"] == (ok ? 0 : name == "x1" || name == "x3" ? 1 : 3));
+    CHECK(j["exit_status"] == (ok ? 0 : name == "x1" || name == "x3" ? 1 : name == "x2" ? 2 : 3));
   }
   // Full precision: the minimum angle of the report is the one recomputed from the output mesh to
   // the last bit (the writer's shortest round-trip decimals, parsed back).

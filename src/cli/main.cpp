@@ -1115,6 +1115,8 @@ int main(int argc, char** argv) {
   } catch (const Usage_error& e) {
     progress_display.finish();
     std::cerr << "meshfit: " << e.message << "\n";
+    // (An option value found wrong after the paths were checked: the report says so too.)
+    write_failure_report(e.message, "usage", usage_error);
     return usage_error;
   } catch (const meshfit::Invalid_input& e) {
     progress_display.finish();
