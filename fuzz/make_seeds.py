@@ -45,6 +45,8 @@ put("ply", "octahedron_le.ply", hdr + body)
 hdr_be = hdr.replace(b"binary_little_endian", b"binary_big_endian")
 body_be = b"".join(struct.pack(">3f", *v) for v in octa_v) + b"".join(struct.pack(">B3i", 3, *f) for f in octa_f)
 put("ply", "octahedron_be.ply", hdr_be + body_be)
+# Issue 14: only edges flagged `curve` are curve edges (an unflagged list, as CGAL writes, is skipped).
+put("ply", "octahedron_flagged_edges.ply", ply.replace("property int vertex2\nend_header", "property int vertex2\nproperty uchar curve\nend_header").replace("\n0 2\n", "\n0 2 1\n"))
 put("ply", "property_first.ply", "ply\nformat ascii 1.0\nproperty float x\nelement vertex 0\nend_header\n")
 
 stl = "solid o\n"
@@ -62,6 +64,7 @@ put("polylines", "near.polylines.txt", "2 0 0 0 1 0 0\n2 1.0000000000001 0 0 1 1
 
 put("correspondences", "pairs.txt", "# pairs\n0 0 0 0\n1 1 0 0\n2 0 1 0\n4 0 0 1\n")
 put("correspondences", "coplanar.txt", "0 0 0 0\n1 1 0 0\n2 0 1 0\n3 1 1 1\n")
+put("correspondences", "by_index.txt", "# network vertices by index, mixed with a point\n0 @0\n1 @1\n2 0 1 0\n4 @3\n5 @99\n")
 
 curves = "4 0 0 0 1 0 0 0 1 0 0 0 0\n2 0 0 0 0 0 1\n"
 put("check", "valid.txt", off + "@@\n" + curves + "@@\n" + "0 0 0 0\n1 1 0 0\n2 0 1 0\n4 0 0 1\n")

@@ -7,6 +7,10 @@ packages=(g++ cmake make libcgal-dev libeigen3-dev libboost-dev libgmp-dev libmp
           libcgal-demo libopenblas-dev liblapacke-dev
           # the fine level's untangling: L-BFGS (header-only, used inside the compiled library)
           liblbfgspp-dev
+          # the command line (CLI11) and its report (nlohmann-json)
+          libcli11-dev nlohmann-json3-dev
+          # round-trip tests of the outputs in another reader
+          python3-meshio
           # pictures (scripts/render.sh and its test): f3d renders under a virtual X server
           f3d xvfb xauth libgl1-mesa-dri python3
           # meshfit view: three.js inlined into the page at build time; its tests in headless Chromium

@@ -7,11 +7,13 @@
 MESH is .off, .obj or .ply (ASCII or binary). The VTK file holds the triangles and the curves as
 LINES, with a per-cell RGB array "rgb" (colour it with f3d's `--scalars=rgb --cells --comp=-2`).
 Faces are coloured by region when the mesh has regions (PLY `patch_id`, OBJ `g region_<k>`), grey
-otherwise. Lines are near-black: the mesh's own curve edges (PLY `edge`, OBJ `l`) when it has
-some, otherwise the polylines of the curve network given with --curves. Standard library only.
+otherwise. Lines are near-black: the mesh's own curve edges when it has some (PLY `edge` instances
+flagged `curve`, OBJ `l`, or the file meshfit writes beside its outputs, MESH.curves.polylines.txt),
+otherwise the polylines of the curve network given with --curves. Standard library only.
 """
 import colorsys
 import math
+import os
 import struct
 import sys
 
@@ -135,7 +137,8 @@ def read_ply(path):
     face_rows = records.get("face", [])
     faces = [r.get("vertex_indices", r.get("vertex_index")) for r in face_rows]
     regions = [r["patch_id"] for r in face_rows] if face_rows and "patch_id" in face_rows[0] else None
-    edges = [(r["vertex1"], r["vertex2"]) for r in records.get("edge", [])]
+    # Only flagged edges are curves (CGAL's write_PLY lists every edge).
+    edges = [(r["vertex1"], r["vertex2"]) for r in records.get("edge", []) if r.get("curve", 0)]
     return points, faces, regions, edges
 
 
@@ -215,15 +218,22 @@ def convert(argv):
         face_rgb = [FACE_GREY] * len(tri)
     points = list(points)
     lines = [[a, b] for a, b in edges]
+    beside = mesh + ".curves.polylines.txt"
+    if not lines and os.path.isfile(beside):
+        for polyline in read_polylines(beside):
+            first = len(points)
+            points.extend(polyline)
+            lines.append(list(range(first, len(points))))
+        edges = lines
     if not lines and curves:
         for polyline in read_polylines(curves):
             first = len(points)
             points.extend(polyline)
             lines.append(list(range(first, len(points))))
     write_vtk(out, points, tri, face_rgb, lines, CURVE_RGB)
-    sys.stderr.write("mesh_to_vtk: %s: %d points, %d triangles, %d %s%s\n" % (
+    sys.stderr.write("mesh_to_vtk: %s: %d points, %d triangles, %d lines (%s)%s\n" % (
         out, len(points), len(tri), len(lines),
-        "curve edges" if edges else "curve polylines",
+        "the mesh's curve edges" if edges else "curve polylines",
         ", %d regions" % len(set(tri_region)) if regions is not None else ""))
 
 

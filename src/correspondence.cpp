@@ -18,18 +18,30 @@ std::vector<Correspondence> parse_correspondences(const std::string& content, co
   std::map<std::size_t, std::size_t> by_template, by_network;  // vertex -> line
   while (in.next()) {
     const auto& t = in.tokens();
-    if (t.size() != 4)
-      in.fail("expected 'template_vertex x y z' (4 values), found " + std::to_string(t.size()));
+    const bool by_index = t.size() == 2 && !t[1].empty() && t[1][0] == '@';
+    if (t.size() != 4 && !by_index)
+      in.fail("expected 'template_vertex x y z' (4 values) or 'template_vertex @network_vertex' (2), found " +
+              std::to_string(t.size()) + " values");
     Correspondence c;
     c.template_vertex = in.to_unsigned(t[0], "template vertex index");
-    const Point_3 p(in.to_double(t[1], "x coordinate"), in.to_double(t[2], "y coordinate"),
-                    in.to_double(t[3], "z coordinate"));
-    const auto v = network.find_vertex(p);
-    if (!v)
-      in.fail("the point (" + std::string(t[1]) + ", " + std::string(t[2]) + ", " +
-              std::string(t[3]) + ") is not a vertex of the curve network (tolerance " +
-              internal::format_number(network.tolerance()) + ")");
-    c.network_vertex = *v;
+    if (by_index) {
+      const std::uint64_t k = in.to_unsigned(t[1].substr(1), "network vertex index (after '@')");
+      if (k >= network.number_of_vertices())
+        in.fail("network vertex @" + std::to_string(k) + " does not exist: the network has " +
+                std::to_string(network.number_of_vertices()) +
+                " vertices, @0 to @" + std::to_string(network.number_of_vertices() - 1) +
+                " in order of first appearance in the curve file");
+      c.network_vertex = static_cast<std::size_t>(k);
+    } else {
+      const Point_3 p(in.to_double(t[1], "x coordinate"), in.to_double(t[2], "y coordinate"),
+                      in.to_double(t[3], "z coordinate"));
+      const auto v = network.find_vertex(p);
+      if (!v)
+        in.fail("the point (" + std::string(t[1]) + ", " + std::string(t[2]) + ", " +
+                std::string(t[3]) + ") is not a vertex of the curve network (tolerance " +
+                internal::format_number(network.tolerance()) + ")");
+      c.network_vertex = *v;
+    }
     c.where = in.here();
     const auto t_it = by_template.emplace(c.template_vertex, in.line_number());
     if (!t_it.second)

@@ -3,6 +3,7 @@
 #include <meshfit/coordinate_range.h>
 #include <meshfit/internal/format_number.h>
 
+#include "polygon_soup.h"
 #include "text_parser.h"
 #include "write_file.h"
 
@@ -273,7 +274,51 @@ Curve_network parse_curve_network(const std::string& content, const std::string&
   }
 }
 
+namespace {
+
+// The curve edges of a mesh file (OBJ `l` lines, PLY edges flagged `curve`) as two-point polylines:
+// the network's merging joins them into chains again.
+Curve_network curve_network_of_mesh_file(const std::string& content, const std::string& name, bool ply,
+                                         double relative_tolerance) {
+  const internal::Polygon_soup soup = ply ? internal::parse_ply(content, name) : internal::parse_obj(content, name);
+  if (soup.edges.empty())
+    throw Invalid_input(Input_location{name, 0, Input_location::no_offset},
+                        ply ? "the PLY file has no curve edges (an 'edge' element with vertex1, vertex2 and a "
+                              "nonzero integer property 'curve'" +
+                                  std::string(soup.ignored_edges ? "; its " + std::to_string(soup.ignored_edges) +
+                                                                       " edges carry no curve flag)"
+                                                                 : ")")
+                            : "the OBJ file has no curve edges ('l' lines)");
+  std::vector<Curve_network::Polyline> polylines;
+  std::vector<Input_location> where;
+  polylines.reserve(soup.edges.size());
+  for (std::size_t e = 0; e < soup.edges.size(); ++e) {
+    const Input_location at = soup.location(soup.edge_where[e]);
+    for (std::size_t v : soup.edges[e])
+      if (v >= soup.points.size())
+        throw Invalid_input(at, "curve edge refers to vertex " + std::to_string(soup.one_based ? v + 1 : v) +
+                                    ", but there are only " + std::to_string(soup.points.size()) + " vertices");
+    polylines.push_back({soup.points[soup.edges[e][0]], soup.points[soup.edges[e][1]]});
+    where.push_back(at);
+  }
+  return Curve_network(polylines, relative_tolerance, where);
+}
+
+std::string lower_extension(const std::string& path) {
+  const std::size_t dot = path.find_last_of('.');
+  const std::size_t slash = path.find_last_of('/');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
+  std::string ext = path.substr(dot + 1);
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+}  // namespace
+
 Curve_network read_curve_network(const std::string& path, double relative_tolerance) {
+  const std::string ext = lower_extension(path);
+  if (ext == "obj" || ext == "ply")
+    return curve_network_of_mesh_file(internal::read_file(path), path, ext == "ply", relative_tolerance);
   return parse_curve_network(internal::read_file(path), path, relative_tolerance);
 }
 

@@ -1,5 +1,6 @@
-// Mesh writers (OFF, OBJ with regions and curve edges, PLY with patch_id and edges, STL) and the
-// dispatch of mesh reading by format. Files are written under a temporary name and renamed.
+// Mesh writers (OFF, OBJ with regions, PLY with patch_id, VTK PolyData (XML and legacy) with region
+// and curve cell data, STL; curve edges in OBJ/PLY on request, else in a polyline file of their own)
+// and the dispatch of mesh reading by format. Files are written under a temporary name and renamed.
 #include "polygon_soup.h"
 #include "text_parser.h"
 #include "write_file.h"
@@ -25,9 +26,11 @@ Mesh_format mesh_format_of(const std::string& path) {
   if (ext == "obj") return Mesh_format::obj;
   if (ext == "ply") return Mesh_format::ply;
   if (ext == "stl") return Mesh_format::stl;
+  if (ext == "vtp") return Mesh_format::vtp;
+  if (ext == "vtk") return Mesh_format::vtk;
   throw Invalid_input(Input_location{path, 0, Input_location::no_offset},
                       "unknown mesh format " + internal::quote(ext) +
-                          "; expected .off, .obj, .ply or .stl");
+                          "; expected .off, .obj, .ply or .stl (or, for outputs, .vtp or .vtk)");
 }
 
 const char* to_string(Mesh_format format) {
@@ -36,6 +39,8 @@ const char* to_string(Mesh_format format) {
     case Mesh_format::obj: return "OBJ";
     case Mesh_format::ply: return "PLY";
     case Mesh_format::stl: return "STL";
+    case Mesh_format::vtp: return "VTP";
+    case Mesh_format::vtk: return "VTK";
   }
   return "?";
 }
@@ -48,6 +53,11 @@ Mesh_data parse_mesh_data(const std::string& content, Mesh_format format, const 
     case Mesh_format::obj: soup = internal::parse_obj(content, name); break;
     case Mesh_format::ply: soup = internal::parse_ply(content, name); break;
     case Mesh_format::stl: soup = internal::parse_stl(content, name); break;
+    case Mesh_format::vtp:
+    case Mesh_format::vtk:
+      throw Invalid_input(Input_location{name, 0, Input_location::no_offset},
+                          std::string(to_string(format)) +
+                              " is an output format only: read meshes from .off, .obj, .ply or .stl");
   }
   if (report) {
     *report = Mesh_read_report();
@@ -127,9 +137,10 @@ void write_off(std::ostream& os, const Mesh_data& mesh) {
   for (const auto& t : mesh.triangles) w << "3 " << t[0] << ' ' << t[1] << ' ' << t[2] << '\n';
 }
 
-void write_obj(std::ostream& os, const Mesh_data& mesh) {
+void write_obj(std::ostream& os, const Mesh_data& mesh, bool curves_in_mesh) {
   Number_writer w(os);
-  w << "# written by meshfit: faces grouped by region (g region_<k>), curve edges as l\n";
+  w << (curves_in_mesh ? "# written by meshfit: faces grouped by region (g region_<k>), curve edges as l\n"
+                       : "# written by meshfit: faces grouped by region (g region_<k>)\n");
   for (const Point_3& p : mesh.points) w << "v " << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
   // One group per region, in increasing region order (faces of a region keep their order), as
   // DESIGN.md fixes; so the faces of an OBJ come back grouped, not in the mesh's face order.
@@ -150,7 +161,8 @@ void write_obj(std::ostream& os, const Mesh_data& mesh) {
     const auto& t = mesh.triangles[f];
     w << "f " << t[0] + 1 << ' ' << t[1] + 1 << ' ' << t[2] + 1 << '\n';
   }
-  for (const auto& e : mesh.curve_edges) w << "l " << e[0] + 1 << ' ' << e[1] + 1 << '\n';
+  if (curves_in_mesh)
+    for (const auto& e : mesh.curve_edges) w << "l " << e[0] + 1 << ' ' << e[1] + 1 << '\n';
 }
 
 template <typename T>
@@ -160,7 +172,7 @@ void put_le(std::ostream& os, T v) {
   os.write(b, sizeof(T));
 }
 
-void write_ply(std::ostream& os, const Mesh_data& mesh, Ply_encoding encoding) {
+void write_ply(std::ostream& os, const Mesh_data& mesh, Ply_encoding encoding, bool curves_in_mesh) {
   if (mesh.points.size() > static_cast<std::size_t>(INT32_MAX))
     throw Invalid_input("PLY output is limited to 2^31-1 vertices");
   const bool patches = !mesh.face_patch.empty();
@@ -171,8 +183,13 @@ void write_ply(std::ostream& os, const Mesh_data& mesh, Ply_encoding encoding) {
     << "\nproperty double x\nproperty double y\nproperty double z\n"
     << "element face " << mesh.triangles.size() << "\nproperty list uchar int vertex_indices\n";
   if (patches) w << "property int patch_id\n";
-  w << "element edge " << mesh.curve_edges.size()
-    << "\nproperty int vertex1\nproperty int vertex2\nend_header\n";
+  // No empty element (meshio refuses `element edge 0`); the flag tells curve edges from a list of
+  // every edge, which is what CGAL's write_PLY writes.
+  const bool edges = curves_in_mesh && !mesh.curve_edges.empty();
+  if (edges)
+    w << "element edge " << mesh.curve_edges.size()
+      << "\nproperty int vertex1\nproperty int vertex2\nproperty int curve\n";
+  w << "end_header\n";
   if (encoding == Ply_encoding::ascii) {
     for (const Point_3& p : mesh.points) w << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
     for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
@@ -181,7 +198,8 @@ void write_ply(std::ostream& os, const Mesh_data& mesh, Ply_encoding encoding) {
       if (patches) w << ' ' << mesh.face_patch[f];
       w << '\n';
     }
-    for (const auto& e : mesh.curve_edges) w << e[0] << ' ' << e[1] << '\n';
+    if (edges)
+      for (const auto& e : mesh.curve_edges) w << e[0] << ' ' << e[1] << " 1\n";
     return;
   }
   for (const Point_3& p : mesh.points) {
@@ -194,10 +212,72 @@ void write_ply(std::ostream& os, const Mesh_data& mesh, Ply_encoding encoding) {
     for (std::size_t v : mesh.triangles[f]) put_le<std::int32_t>(os, static_cast<std::int32_t>(v));
     if (patches) put_le<std::int32_t>(os, mesh.face_patch[f]);
   }
-  for (const auto& e : mesh.curve_edges) {
-    put_le<std::int32_t>(os, static_cast<std::int32_t>(e[0]));
-    put_le<std::int32_t>(os, static_cast<std::int32_t>(e[1]));
-  }
+  if (edges)
+    for (const auto& e : mesh.curve_edges) {
+      put_le<std::int32_t>(os, static_cast<std::int32_t>(e[0]));
+      put_le<std::int32_t>(os, static_cast<std::int32_t>(e[1]));
+      put_le<std::int32_t>(os, 1);
+    }
+}
+
+// Cells in VTK PolyData order (lines before polygons): the curve edges, then the triangles.
+// Cell data `region` (-1 on lines) and `curve` (1 on lines) let f3d and ParaView colour either.
+void write_vtp(std::ostream& os, const Mesh_data& mesh) {
+  if (mesh.points.size() > static_cast<std::size_t>(INT32_MAX))
+    throw Invalid_input("VTK output is limited to 2^31-1 vertices");
+  Number_writer w(os);
+  const std::size_t nl = mesh.curve_edges.size(), nt = mesh.triangles.size();
+  w << "<?xml version=\"1.0\"?>\n<!-- written by meshfit -->\n"
+    << "<VTKFile type=\"PolyData\" version=\"0.1\" byte_order=\"LittleEndian\">\n<PolyData>\n"
+    << "<Piece NumberOfPoints=\"" << mesh.points.size() << "\" NumberOfVerts=\"0\" NumberOfLines=\"" << nl
+    << "\" NumberOfStrips=\"0\" NumberOfPolys=\"" << nt << "\">\n"
+    << "<Points>\n<DataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\" format=\"ascii\">\n";
+  for (const Point_3& p : mesh.points) w << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
+  w << "</DataArray>\n</Points>\n<CellData Scalars=\"region\">\n"
+    << "<DataArray type=\"Int32\" Name=\"region\" format=\"ascii\">\n";
+  for (std::size_t e = 0; e < nl; ++e) w << "-1\n";
+  for (std::size_t f = 0; f < nt; ++f) w << (mesh.face_patch.empty() ? 0 : mesh.face_patch[f]) << '\n';
+  w << "</DataArray>\n<DataArray type=\"Int32\" Name=\"curve\" format=\"ascii\">\n";
+  for (std::size_t e = 0; e < nl; ++e) w << "1\n";
+  for (std::size_t f = 0; f < nt; ++f) w << "0\n";
+  w << "</DataArray>\n</CellData>\n";
+  auto cells = [&](const char* section, auto&& range, std::size_t corners) {
+    w << '<' << section << ">\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
+    for (const auto& c : range) {
+      for (std::size_t k = 0; k < corners; ++k) w << (k ? " " : "") << c[k];
+      w << '\n';
+    }
+    w << "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
+    for (std::size_t i = 1; i <= range.size(); ++i) w << i * corners << '\n';
+    w << "</DataArray>\n</" << section << ">\n";
+  };
+  cells("Lines", mesh.curve_edges, 2);
+  cells("Polys", mesh.triangles, 3);
+  w << "</Piece>\n</PolyData>\n</VTKFile>\n";
+}
+
+// Legacy VTK as an unstructured grid (meshio reads no legacy POLYDATA; f3d and ParaView read both):
+// the same cells and cell data as write_vtp, lines (VTK_LINE, 3) before triangles (VTK_TRIANGLE, 5).
+void write_vtk(std::ostream& os, const Mesh_data& mesh) {
+  if (mesh.points.size() > static_cast<std::size_t>(INT32_MAX))
+    throw Invalid_input("VTK output is limited to 2^31-1 vertices");
+  Number_writer w(os);
+  const std::size_t nl = mesh.curve_edges.size(), nt = mesh.triangles.size();
+  w << "# vtk DataFile Version 4.2\nwritten by meshfit: cell data region and curve\nASCII\n"
+    << "DATASET UNSTRUCTURED_GRID\nPOINTS " << mesh.points.size() << " double\n";
+  for (const Point_3& p : mesh.points) w << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
+  w << "CELLS " << nl + nt << ' ' << 3 * nl + 4 * nt << '\n';
+  for (const auto& e : mesh.curve_edges) w << "2 " << e[0] << ' ' << e[1] << '\n';
+  for (const auto& t : mesh.triangles) w << "3 " << t[0] << ' ' << t[1] << ' ' << t[2] << '\n';
+  w << "CELL_TYPES " << nl + nt << '\n';
+  for (std::size_t e = 0; e < nl; ++e) w << "3\n";
+  for (std::size_t f = 0; f < nt; ++f) w << "5\n";
+  w << "CELL_DATA " << nl + nt << "\nSCALARS region int 1\nLOOKUP_TABLE default\n";
+  for (std::size_t e = 0; e < nl; ++e) w << "-1\n";
+  for (std::size_t f = 0; f < nt; ++f) w << (mesh.face_patch.empty() ? 0 : mesh.face_patch[f]) << '\n';
+  w << "SCALARS curve int 1\nLOOKUP_TABLE default\n";
+  for (std::size_t e = 0; e < nl; ++e) w << "1\n";
+  for (std::size_t f = 0; f < nt; ++f) w << "0\n";
 }
 
 void write_stl(std::ostream& os, const Mesh_data& mesh) {
@@ -219,14 +299,23 @@ void write_stl(std::ostream& os, const Mesh_data& mesh) {
 }  // namespace
 
 void write_mesh_data(std::ostream& out, Mesh_format format, const Mesh_data& mesh,
-                     Ply_encoding ply_encoding) {
+                     const Write_options& options) {
   check_indices(mesh);
   switch (format) {
     case Mesh_format::off: write_off(out, mesh); break;
-    case Mesh_format::obj: write_obj(out, mesh); break;
-    case Mesh_format::ply: write_ply(out, mesh, ply_encoding); break;
+    case Mesh_format::obj: write_obj(out, mesh, options.curves_in_mesh); break;
+    case Mesh_format::ply: write_ply(out, mesh, options.ply_encoding, options.curves_in_mesh); break;
     case Mesh_format::stl: write_stl(out, mesh); break;
+    case Mesh_format::vtp: write_vtp(out, mesh); break;
+    case Mesh_format::vtk: write_vtk(out, mesh); break;
   }
+}
+
+void write_mesh_data(std::ostream& out, Mesh_format format, const Mesh_data& mesh,
+                     Ply_encoding ply_encoding) {
+  Write_options options;
+  options.ply_encoding = ply_encoding;
+  write_mesh_data(out, format, mesh, options);
 }
 
 void write_mesh_data(const std::string& path, const Mesh_data& mesh, const Write_options& options) {
@@ -234,7 +323,65 @@ void write_mesh_data(const std::string& path, const Mesh_data& mesh, const Write
   check_output_path(path, options.protected_paths);
   check_indices(mesh);
   internal::write_file_atomically(path, [&](std::ostream& os) {
-    write_mesh_data(os, format, mesh, options.ply_encoding);
+    write_mesh_data(os, format, mesh, options);
+  });
+}
+
+std::vector<std::vector<std::size_t>> curve_edge_chains(const Mesh_data& mesh) {
+  // Adjacency by vertex, edges numbered in input order; a walk starts at every vertex whose
+  // curve degree is not 2, then the loops left over start at their lowest-numbered edge.
+  std::vector<std::vector<std::pair<std::size_t, std::size_t>>> around;  // vertex -> (edge, other end)
+  std::size_t n = 0;
+  for (const auto& e : mesh.curve_edges) n = std::max({n, e[0] + 1, e[1] + 1});
+  around.resize(n);
+  for (std::size_t k = 0; k < mesh.curve_edges.size(); ++k) {
+    const auto& e = mesh.curve_edges[k];
+    around[e[0]].push_back({k, e[1]});
+    around[e[1]].push_back({k, e[0]});
+  }
+  std::vector<bool> used(mesh.curve_edges.size(), false);
+  std::vector<std::vector<std::size_t>> chains;
+  auto walk = [&](std::size_t v, std::size_t first_edge) {
+    std::vector<std::size_t> chain{v};
+    std::size_t edge = first_edge;
+    while (true) {
+      used[edge] = true;
+      const auto& ce = mesh.curve_edges[edge];
+      v = ce[0] == v ? ce[1] : ce[0];
+      chain.push_back(v);
+      if (around[v].size() != 2) break;
+      const auto& next = around[v][0].first == edge ? around[v][1] : around[v][0];
+      if (used[next.first]) break;
+      edge = next.first;
+    }
+    chains.push_back(std::move(chain));
+  };
+  for (std::size_t v = 0; v < n; ++v)
+    if (around[v].size() != 2)
+      for (const auto& a : around[v])
+        if (!used[a.first]) walk(v, a.first);
+  for (std::size_t k = 0; k < used.size(); ++k)
+    if (!used[k]) walk(mesh.curve_edges[k][0], k);
+  return chains;
+}
+
+std::string curve_edges_path(const std::string& output) { return output + ".curves.polylines.txt"; }
+
+void write_curve_edges(const std::string& path, const Mesh_data& mesh, const Write_options& options) {
+  check_output_path(path, options.protected_paths);
+  check_indices(mesh);
+  const auto chains = curve_edge_chains(mesh);
+  internal::write_file_atomically(path, [&](std::ostream& os) {
+    Number_writer w(os);
+    w << "# curve edges written by meshfit: one chain of mesh edges per line, N x1 y1 z1 ... xN yN zN\n";
+    for (const auto& chain : chains) {
+      w << chain.size();
+      for (std::size_t v : chain) {
+        const Point_3& p = mesh.points[v];
+        w << ' ' << p.x() << ' ' << p.y() << ' ' << p.z();
+      }
+      w << '\n';
+    }
   });
 }
 

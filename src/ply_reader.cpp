@@ -50,7 +50,7 @@ struct Ply_property {
 };
 
 // What a property means to meshfit.
-enum class Role { none, x, y, z, face_indices, patch_id, edge_v1, edge_v2 };
+enum class Role { none, x, y, z, face_indices, patch_id, edge_v1, edge_v2, curve_flag };
 
 struct Ply_element {
   std::string name;
@@ -141,6 +141,10 @@ Ply_header parse_header(Line_reader& in) {
         if (p.name == "vertex1") role = Role::edge_v1;
         if (p.name == "vertex2") role = Role::edge_v2;
         if (role != Role::none && !is_integral(p.type)) in.fail("edge vertices must have an integer type");
+        if (p.name == "curve") {
+          if (!is_integral(p.type)) in.fail("the edge property curve (the curve flag) must have an integer type");
+          role = Role::curve_flag;
+        }
       }
       e.properties.push_back(std::move(p));
       e.roles.push_back(role);
@@ -164,8 +168,9 @@ Ply_header parse_header(Line_reader& in) {
       throw Invalid_input(at, "the vertex element needs properties x, y and z");
     if (e.name == "face" && !has(Role::face_indices))
       throw Invalid_input(at, "the face element needs a list property vertex_indices");
-    if (e.name == "edge" && !(has(Role::edge_v1) && has(Role::edge_v2)))
-      throw Invalid_input(at, "the edge element needs properties vertex1 and vertex2");
+    // (An edge element without the curve flag lists no curve edge and is skipped, whatever it holds.)
+    if (e.name == "edge" && has(Role::curve_flag) && !(has(Role::edge_v1) && has(Role::edge_v2)))
+      throw Invalid_input(at, "the edge element has a curve flag and needs properties vertex1 and vertex2");
   }
   return h;
 }
@@ -307,11 +312,16 @@ Polygon_soup parse_ply(std::string_view text, const std::string& name) {
   for (const Ply_element& e : h.elements) {
     const bool has_patch =
         e.name == "face" && std::find(e.roles.begin(), e.roles.end(), Role::patch_id) != e.roles.end();
+    // Only flagged edges are curve edges: CGAL's write_PLY lists every edge of the mesh, and
+    // taking such a list as curves would fix every vertex.
+    const bool has_curve_flag =
+        e.name == "edge" && std::find(e.roles.begin(), e.roles.end(), Role::curve_flag) != e.roles.end();
     for (std::uint64_t i = 0; i < e.count; ++i) {
       const std::size_t where = body.begin_instance(e, i);
       double xyz[3] = {0, 0, 0};
       std::array<std::size_t, 2> edge{};
       int patch = -1;
+      bool flagged = false;
       for (std::size_t k = 0; k < e.properties.size(); ++k) {
         const Ply_property& p = e.properties[k];
         if (p.is_list) {
@@ -333,6 +343,7 @@ Polygon_soup parse_ply(std::string_view text, const std::string& name) {
             break;
           case Role::edge_v1: edge[0] = to_index(v, "edge vertex"); break;
           case Role::edge_v2: edge[1] = to_index(v, "edge vertex"); break;
+          case Role::curve_flag: flagged = v != 0; break;
           default: break;
         }
       }
@@ -343,8 +354,12 @@ Polygon_soup parse_ply(std::string_view text, const std::string& name) {
         if (has_patch) soup.polygon_patch.push_back(patch);
       }
       if (e.name == "edge") {
-        soup.edges.push_back(edge);
-        soup.edge_where.push_back(where);
+        if (has_curve_flag && flagged) {
+          soup.edges.push_back(edge);
+          soup.edge_where.push_back(where);
+        } else {
+          ++soup.ignored_edges;
+        }
       }
     }
   }

@@ -21,6 +21,7 @@ struct Polygon_soup {
   std::vector<int> polygon_patch;          ///< empty, or a region per polygon
   std::vector<std::array<std::size_t, 2>> edges;
   std::vector<std::size_t> edge_where;
+  std::size_t ignored_edges = 0;  ///< listed edges that are not curve edges (PLY without `curve`)
 
   std::size_t number_of_polygons() const { return start.size() - 1; }
   void end_polygon(std::size_t where) {

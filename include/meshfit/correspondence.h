@@ -24,9 +24,11 @@ struct Correspondence {
 };
 
 /// Reads pairs, one per line `i x y z` (`#` comments and blank lines ignored), where `i` is a
-/// template vertex index and `(x, y, z)` a vertex of `network` within its merge tolerance.
+/// template vertex index and `(x, y, z)` a vertex of `network` within its merge tolerance; or
+/// `i @k`, where `k` is the index of a network vertex (0-based, in order of first appearance in
+/// the curve file, after merging: Curve_network's numbering). Both forms may be mixed.
 /// \throws Invalid_input naming the file and line of a malformed line, of a point that is not a
-///         network vertex, or of a pair repeating an earlier pair's template or network vertex.
+///         network vertex, of an index `@k` with no network vertex, or of a pair repeating an earlier pair's template or network vertex.
 std::vector<Correspondence> read_correspondences(const std::string& path, const Curve_network& network);
 std::vector<Correspondence> parse_correspondences(const std::string& content, const std::string& name,
                                                   const Curve_network& network);

@@ -106,7 +106,13 @@ class Curve_network {
 
 /// Reads a network in CGAL's polyline format: one polyline per line, `N x1 y1 z1 … xN yN zN`;
 /// blank lines and lines starting with `#` are ignored; a closed curve repeats its first point.
-/// \throws Invalid_input naming the file and line for any malformed line.
+/// A path ending in `.obj` or `.ply` (any case) is read as a mesh file instead, and its curve
+/// edges are the network (faces are ignored): OBJ `l` lines (each consecutive pair of vertices a
+/// segment) and PLY `edge` instances whose integer property `curve` is nonzero (what meshfit
+/// writes with `Write_options::curves_in_mesh`). Network vertices are numbered in order of first
+/// appearance (points for polylines, edge ends for mesh files), after merging.
+/// \throws Invalid_input naming the file and line (or byte offset) for any malformed line, and
+///         the file for a mesh file without curve edges.
 Curve_network read_curve_network(const std::string& path,
                                  double relative_tolerance = default_merge_tolerance);
 /// Same, from the content of a file; `name` is used in error messages.

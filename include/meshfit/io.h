@@ -33,9 +33,12 @@
 
 namespace meshfit {
 
-enum class Mesh_format { off, obj, ply, stl };
+/// File formats. `vtp` (VTK XML PolyData) and `vtk` (legacy VTK, an unstructured grid) are output
+/// formats only.
+enum class Mesh_format { off, obj, ply, stl, vtp, vtk };
 
-/// The format named by the file's extension (`.off`, `.obj`, `.ply`, `.stl`, any case).
+/// The format named by the file's extension (`.off`, `.obj`, `.ply`, `.stl`, `.vtp`, `.vtk`, any
+/// case).
 /// \throws Invalid_input naming the file for any other extension.
 Mesh_format mesh_format_of(const std::string& path);
 const char* to_string(Mesh_format format);
@@ -57,9 +60,14 @@ struct Mesh_read_report {
   std::size_t polygons_triangulated = 0;  ///< of those, faces with more than three sides
   std::vector<std::size_t> degenerate_faces;   ///< triangles whose corners are collinear (exact test)
   std::vector<std::size_t> isolated_vertices;  ///< vertices no face uses
+  /// Edges the file lists that are not curve edges: a PLY `edge` element without an integer
+  /// property `curve` (as CGAL's write_PLY writes every edge), or instances whose `curve` is 0.
+  std::size_t unflagged_edges_ignored = 0;
 };
 
-/// Reads a mesh file in any supported format (chosen by the extension).
+/// Reads a mesh file in any supported format (chosen by the extension). Curve edges are OBJ `l`
+/// lines and PLY `edge` instances (properties `vertex1`, `vertex2`) whose integer property `curve`
+/// is nonzero; an `edge` element without a `curve` property lists no curve edge.
 /// \throws Invalid_input naming the file and line or byte offset for any malformed content.
 Mesh_data read_mesh_data(const std::string& path, Mesh_read_report* report = nullptr);
 /// Reads from a stream; `name` is used in error messages.
@@ -75,18 +83,42 @@ struct Write_options {
   Ply_encoding ply_encoding = Ply_encoding::ascii;
   /// Paths the output must not be (the inputs): writing refuses with Invalid_input.
   std::vector<std::string> protected_paths;
+  /// Curve edges inside `.obj` (`l` lines) and `.ply` (an `edge` element with `vertex1`,
+  /// `vertex2` and `int curve` = 1) files too. Off by default: not every reader accepts them
+  /// (CGAL's read_polygon_mesh refuses `l`, meshio an `edge` element); write_curve_edges writes
+  /// them to a file of their own. `.vtp`/`.vtk` always hold them (as lines flagged `curve` = 1).
+  bool curves_in_mesh = false;
 };
 
 /// Writes `mesh` in the format of the path's extension. `.obj` groups faces by region
-/// (`g region_<k>`) and writes curve edges as `l`; `.ply` writes a face property `patch_id` and an
-/// `edge` element; `.off` and `.stl` write geometry only. The file is written next to its
-/// destination under a temporary name and renamed into place, so a failure leaves no partial file.
+/// (`g region_<k>`); `.ply` writes a face property `int patch_id` (when the mesh has regions) and
+/// no empty element; `.vtp` and `.vtk` write the triangles and the curve edges (as lines) with
+/// cell data `region` (-1 on lines) and `curve` (1 on lines, 0 on triangles); `.off` and `.stl`
+/// write geometry only. Curve edges go into `.obj` and `.ply` only with
+/// `Write_options::curves_in_mesh`. The file is written next to its destination under a temporary
+/// name and renamed into place, so a failure leaves no partial file.
 /// \throws Invalid_input naming the path when it is protected, has an unknown extension, or
 ///         cannot be written, or when the mesh refers to vertices that do not exist.
 void write_mesh_data(const std::string& path, const Mesh_data& mesh,
                      const Write_options& options = Write_options());
 void write_mesh_data(std::ostream& out, Mesh_format format, const Mesh_data& mesh,
                      Ply_encoding ply_encoding = Ply_encoding::ascii);
+void write_mesh_data(std::ostream& out, Mesh_format format, const Mesh_data& mesh,
+                     const Write_options& options);
+
+/// The curve edges of `mesh` as maximal chains of vertex indices: a chain runs between vertices
+/// where the number of curve edges is not 2, or is a closed loop (its first vertex repeated at the
+/// end). Every curve edge is in exactly one chain; the order is deterministic.
+std::vector<std::vector<std::size_t>> curve_edge_chains(const Mesh_data& mesh);
+/// Where write_curve_edges puts the curve edges of the mesh output `output`:
+/// `<output>.curves.polylines.txt`.
+std::string curve_edges_path(const std::string& output);
+/// Writes the chains of curve_edge_chains in the curve-network format (`N x1 y1 z1 …`, shortest
+/// round-tripping decimals), atomically like write_mesh_data, so that meshfit reads them back as
+/// a curve network.
+/// \throws Invalid_input as write_mesh_data does.
+void write_curve_edges(const std::string& path, const Mesh_data& mesh,
+                       const Write_options& options = Write_options());
 
 /// \throws Invalid_input when `output` names the same file as one of `inputs` (also through
 ///         links or different spellings of the path).

@@ -12,9 +12,15 @@
 #include "../write_file.h"
 #include "view.h"
 
-using meshfit_cli::json_string;
-
 #include <CGAL/Surface_mesh.h>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <sys/ioctl.h>
+#include <unistd.h>
+
+#include <algorithm>
 
 #include <chrono>
 #include <cmath>
@@ -32,46 +38,9 @@ namespace {
 
 enum Exit_status { success = 0, invalid_input = 1, usage_error = 2, algorithm_failed = 3 };
 
-const char* const usage_text =
-    "usage:\n"
-    "  meshfit fit       --template T --curves C --correspondences P --output O [--report R.json] [options]\n"
-    "  meshfit deform    --template T --curves C --correspondences P --output O [--report R.json] [options]\n"
-    "  meshfit partition --template M --curves C --output O [--report R.json] [options]\n"
-    "  meshfit smooth    --template M [--curves C] --output O [--report R.json] [options]\n"
-    "  meshfit check     --template T --curves C --correspondences P\n"
-    "  meshfit view      --template T --curves C [--correspondences P] [--result R [--result-report R.json]]...\n"
-    "                    --output O.html\n"
-    "options:\n"
-    "  --merge-tolerance X  curve points closer than X times the network's bounding-box diagonal\n"
-    "                       are one network vertex (default 1e-9)\n"
-    "  --quiet              no progress on stderr\n"
-    "deform options:\n"
-    "  --coarse-only        stop after the coarse level (RBF through the given pairs)\n"
-    "  --kernel K           RBF basis: linear (phi(r)=r, default) or cubic (phi(r)=r^3)\n"
-    "  --curve-density D    refine (default: every network vertex gets a mesh vertex) or drop\n"
-    "                       (the template keeps its size; network vertices that lose their\n"
-    "                       nearest template vertex are dropped and reported)\n"
-    "  --fine-level L       surface (default: embed the curves in the coarse surface, then move them into\n"
-    "                       place with a thin-plate displacement) or thesis (nearest-vertex RBF, subdivision)\n"
-    "  --max-rounds N       flip prevention (thesis) or untangling (surface) rounds at most (default 10)\n"
-    "  --max-memory SIZE    refuse (exit 3, with the estimate) work whose largest allocation, the thesis\n"
-    "                       level's dense RBF system, would exceed SIZE (2G, 512M; default RAM / 8)\n"
-    "smooth options (thesis ch. 4: modified mean-curvature flow, then modified Laplacian flow):\n"
-    "  --iterations N       iterations in all (default 100: a fifth mean curvature, the rest Laplacian)\n"
-    "  --mc-iterations N    iterations of the modified mean-curvature flow\n"
-    "  --laplacian-iterations N  iterations of the modified Laplacian flow\n"
-    "  --step X             step lambda in (0, 1] (default 1)\n"
-    "                       Fixed: the mesh boundary, the curve edges' vertices (curve edges of\n"
-    "                       a .ply/.obj template, and with --curves the mesh vertices on network\n"
-    "                       vertices and the mesh edges along network segments)\n"
-    "fit options: those of deform (but --coarse-only) and smooth, and\n"
-    "  --allow-defects      write the result even when the final verification finds defects\n"
-    "                       (segments not embedded, folded or degenerate faces, self-intersections);\n"
-    "                       they are still reported\n"
-    "  --no-self-intersection-check  skip the final self-intersection test (the slowest check)\n"
-    "view options: --result (repeatable: fit's output, or one per stage, shown in that order);\n"
-    "  --result-report R.json  the report of the result given before it, shown beside it\n"
-    "  --help, --version\n";
+/// The version of the report's layout (doc/report-schema.json): raised when a key changes meaning
+/// or is removed; keys may be added within a version.
+constexpr int report_schema_version = 1;
 
 struct Usage_error {
   std::string message;
@@ -85,55 +54,245 @@ struct Command_line {
   bool coarse_only = false;
   bool allow_defects = false;
   bool no_self_intersection_check = false;
+  bool curves_in_mesh = false;
 };
 
-Command_line parse(int argc, char** argv) {
-  Command_line cl;
-  if (argc < 2) throw Usage_error{"no command given"};
-  cl.command = argv[1];
-  static const char* const valued[] = {"--template", "--curves", "--correspondences", "--output",
-                                       "--report", "--merge-tolerance", "--kernel",
-                                       "--curve-density", "--max-rounds", "--fine-level", "--max-memory",
-                                       "--iterations", "--mc-iterations", "--laplacian-iterations", "--step"};
-  for (int i = 2; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--quiet") { cl.quiet = true; continue; }
-    if (arg == "--coarse-only") { cl.coarse_only = true; continue; }
-    if (arg == "--allow-defects") { cl.allow_defects = true; continue; }
-    if (arg == "--no-self-intersection-check") { cl.no_self_intersection_check = true; continue; }
-    if (arg == "--result" || arg == "--result-report") {
-      if (i + 1 >= argc) throw Usage_error{"option " + arg + " needs a value"};
-      if (arg == "--result") {
-        cl.results.push_back(argv[++i]);
-      } else {
-        if (cl.result_reports.size() >= cl.results.size())
-          throw Usage_error{"--result-report " + std::string(argv[i + 1]) + " follows no --result of its own"};
-        cl.result_reports.resize(cl.results.size());
-        cl.result_reports.back() = argv[++i];
-      }
-      continue;
-    }
-    bool known = false;
-    for (const char* v : valued) known = known || arg == v;
-    if (!known) throw Usage_error{"unknown option '" + arg + "'"};
-    if (i + 1 >= argc) throw Usage_error{"option " + arg + " needs a value"};
-    if (!cl.values.emplace(arg, argv[++i]).second) throw Usage_error{"option " + arg + " given twice"};
-  }
-  return cl;
+// ---- the command line (CLI11) -------------------------------------------------------------------
+
+struct Option_spec {
+  const char* name;
+  const char* value;  ///< the value's name in the help, nullptr for a flag
+  const char* help;
+};
+
+// Every option of every command, described once.
+const Option_spec option_specs[] = {
+    {"--template", "MESH", "template mesh (.off, .obj, .ply, .stl); for partition and smooth, the mesh to work on"},
+    {"--curves", "CURVES", "curve network: .polylines.txt (N x1 y1 z1 ...), or the curve edges of an .obj (l lines) "
+                           "or .ply (edges flagged curve)"},
+    {"--correspondences", "PAIRS", "pairs, one per line: 'i x y z' (template vertex i, network point) or 'i @k' "
+                                   "(network vertex k)"},
+    {"--output", "OUT", "output mesh: .ply (patch_id per face), .obj (g region_<k>), .vtp/.vtk (cell data region "
+                        "and curve), .off, .stl; the curve edges go to OUT.curves.polylines.txt"},
+    {"--report", "R.json", "write a JSON report (doc/report.md), also when the run fails; '-' for stdout"},
+    {"--merge-tolerance", "X", "curve points closer than X times the network's bounding-box diagonal are one network "
+                               "vertex (default 1e-9)"},
+    {"--quiet", nullptr, "no progress on stderr"},
+    {"--curves-in-mesh", nullptr, "curve edges inside the output (.ply edge element flagged curve, .obj l lines) "
+                                  "instead of OUT.curves.polylines.txt"},
+    {"--coarse-only", nullptr, "stop after the coarse level (RBF through the given pairs)"},
+    {"--kernel", "K", "RBF basis: linear (phi(r)=r, default) or cubic (phi(r)=r^3)"},
+    {"--curve-density", "D", "refine (default: every network vertex gets a mesh vertex) or drop (the template keeps "
+                             "its size; network vertices that lose their nearest template vertex are dropped and "
+                             "reported)"},
+    {"--fine-level", "L", "surface (default: embed the curves in the coarse surface, then move them into place with a "
+                          "thin-plate displacement) or thesis (nearest-vertex RBF, subdivision)"},
+    {"--max-rounds", "N", "flip prevention (thesis) or untangling (surface) rounds at most (default 10)"},
+    {"--max-memory", "SIZE", "refuse (exit 3, with the estimate) work whose largest allocation, the thesis level's "
+                             "dense RBF system, would exceed SIZE (2G, 512M; default RAM / 8)"},
+    {"--iterations", "N", "smoothing iterations in all (default 100: a fifth mean curvature, the rest Laplacian)"},
+    {"--mc-iterations", "N", "iterations of the modified mean-curvature flow"},
+    {"--laplacian-iterations", "N", "iterations of the modified Laplacian flow"},
+    {"--step", "X", "smoothing step lambda in (0, 1] (default 1)"},
+    {"--allow-defects", nullptr, "write the result even when the final verification finds defects (segments not "
+                                 "embedded, folded or degenerate faces, self-intersections); they are still reported"},
+    {"--no-self-intersection-check", nullptr, "skip the final self-intersection test (the slowest check)"},
+    {"--result", "MESH", "a result to show (repeatable: fit's output, or one per stage, in that order)"},
+    {"--result-report", "R.json", "the report of the --result given before it, shown beside it"},
+};
+
+struct Command_spec {
+  const char* name;
+  const char* description;
+  std::vector<const char*> required, optional;
+};
+
+const std::vector<Command_spec>& command_specs() {
+  static const std::vector<const char*> deform_opts{"--kernel", "--curve-density", "--fine-level", "--max-rounds",
+                                                    "--max-memory"};
+  static const std::vector<const char*> smooth_opts{"--iterations", "--mc-iterations", "--laplacian-iterations",
+                                                    "--step"};
+  auto join = [](std::vector<const char*> a, const std::vector<const char*>& b) {
+    a.insert(a.end(), b.begin(), b.end());
+    return a;
+  };
+  static const std::vector<const char*> common{"--report", "--merge-tolerance", "--quiet", "--curves-in-mesh"};
+  static const std::vector<Command_spec> specs{
+      {"fit", "Runs the whole pipeline: deform, partition, smooth, verify.",
+       {"--template", "--curves", "--correspondences", "--output"},
+       join(join(join(common, deform_opts), smooth_opts), {"--allow-defects", "--no-self-intersection-check"})},
+      {"deform", "Stage 1: moves the template onto the curves (coarse and fine levels, flip prevention).",
+       {"--template", "--curves", "--correspondences", "--output"},
+       join(join(common, deform_opts), {"--coarse-only"})},
+      {"partition", "Stage 2: makes the network's segments mesh edges and labels the regions they bound.",
+       {"--template", "--curves", "--output"},
+       common},
+      {"smooth", "Stage 3: tangential smoothing (thesis ch. 4); the boundary, curve edges and, with --curves, the "
+                 "network's vertices and segments stay fixed.",
+       {"--template", "--output"},
+       join(join(common, smooth_opts), {"--curves"})},
+      {"check", "Validates the inputs against each other and prints a summary.",
+       {"--template", "--curves", "--correspondences"},
+       {"--merge-tolerance", "--quiet"}},
+      {"view", "Writes one self-contained HTML page with the inputs, the pairs and the results.",
+       {"--template", "--curves", "--output"},
+       {"--correspondences", "--merge-tolerance", "--quiet", "--result", "--result-report"}},
+  };
+  return specs;
 }
 
-void require(const Command_line& cl, std::initializer_list<const char*> required,
-             std::initializer_list<const char*> allowed) {
-  for (const char* r : required)
-    if (!cl.values.count(r)) throw Usage_error{"meshfit " + cl.command + " needs " + r};
-  for (const auto& kv : cl.values) {
-    bool ok = false;
-    for (const char* r : required) ok = ok || kv.first == r;
-    for (const char* a : allowed) ok = ok || kv.first == a;
-    if (!ok) throw Usage_error{"meshfit " + cl.command + " does not take " + kv.first};
+const Option_spec& option_spec(const std::string& name) {
+  for (const Option_spec& o : option_specs)
+    if (name == o.name) return o;
+  throw std::logic_error("no option " + name);
+}
+
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
   }
-  if (cl.command != "view" && !cl.results.empty())
-    throw Usage_error{"meshfit " + cl.command + " does not take --result"};
+  return row[b.size()];
+}
+
+/// The closest of `candidates` to `word` (a typo: a few edits, or a prefix), or "".
+std::string suggestion(const std::string& word, const std::vector<std::string>& candidates) {
+  std::string best;
+  std::size_t best_distance = std::max<std::size_t>(2, word.size() / 3) + 1;
+  for (const std::string& c : candidates) {
+    const std::size_t d = c.compare(0, word.size(), word) == 0 && word.size() >= 4 ? 1 : edit_distance(word, c);
+    if (d < best_distance) {
+      best_distance = d;
+      best = c;
+    }
+  }
+  return best;
+}
+
+struct Parsed {
+  bool exit_now = false;  ///< --help or --version was answered
+  Command_line cl;
+};
+
+Parsed parse(int argc, char** argv) {
+  CLI::App app{"meshfit " MESHFIT_VERSION_STRING
+               ": fits a triangle template mesh to a network of 3-D curves; the output is a mesh "
+               "partitioned into the regions the curves bound.\n"
+               "Exit status: 0 success, 1 invalid input, 2 usage error, 3 the algorithm could not complete.",
+               "meshfit"};
+  app.set_version_flag("--version", std::string("meshfit ") + MESHFIT_VERSION_STRING);
+  app.require_subcommand(1, 1);
+  app.fallthrough(false);
+  app.get_formatter()->column_width(30);
+  Parsed parsed;
+  Command_line& cl = parsed.cl;
+  std::map<std::string, std::map<std::string, CLI::Option*>> options;  // command -> option -> CLI11's
+  std::map<std::string, std::string> holder;  // (single values land here, then in cl.values)
+  std::vector<std::string> results, result_reports;
+  std::map<std::string, bool> flags;
+  for (const Command_spec& c : command_specs()) {
+    CLI::App* sub = app.add_subcommand(c.name, c.description);
+    sub->fallthrough(false);
+    auto add = [&](const char* name, bool required) {
+      const Option_spec& o = option_spec(name);
+      CLI::Option* opt = nullptr;
+      const std::string key = std::string(c.name) + " " + name;
+      if (!o.value) {
+        opt = sub->add_flag(name, flags[key], o.help);
+      } else if (std::string(name) == "--result") {
+        // One value per occurrence (repeat the option), so that reports pair with results.
+        opt = sub->add_option(name, results, o.help)->type_name(o.value)->expected(1)->allow_extra_args(false)->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+      } else if (std::string(name) == "--result-report") {
+        opt = sub->add_option(name, result_reports, o.help)->type_name(o.value)->expected(1)->allow_extra_args(false)->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+      } else {
+        opt = sub->add_option(name, holder[key], o.help)->type_name(o.value);
+        opt->multi_option_policy(CLI::MultiOptionPolicy::Throw);
+      }
+      if (required) opt->required();
+      options[c.name][name] = opt;
+    };
+    for (const char* r : c.required) add(r, true);
+    for (const char* o : c.optional) add(o, false);
+  }
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp&) {
+    // Help of the command named on the line, or of meshfit.
+    const CLI::App* shown = &app;
+    for (const CLI::App* sub : app.get_subcommands()) shown = sub;
+    std::cout << (shown == &app ? app.help() : shown->help("meshfit"));
+    parsed.exit_now = true;
+    return parsed;
+  } catch (const CLI::CallForVersion& e) {
+    std::cout << e.what() << "\n";
+    parsed.exit_now = true;
+    return parsed;
+  } catch (const CLI::ParseError& e) {
+    // A typo gets a suggestion: an option of the command, or a command.
+    std::string message = e.what(), hint;
+    const CLI::App* sub = app.get_subcommands().empty() ? nullptr : app.get_subcommands().front();
+    std::vector<std::string> words;
+    for (int i = 1; i < argc; ++i) words.push_back(argv[i]);
+    if (sub) {
+      std::vector<std::string> names;
+      for (const auto& kv : options[sub->get_name()]) names.push_back(kv.first);
+      names.push_back("--help");
+      for (const std::string& w : words) {
+        if (w.size() < 3 || w.compare(0, 2, "--") != 0) continue;
+        const std::string name = w.substr(0, w.find('='));
+        if (std::find(names.begin(), names.end(), name) != names.end()) continue;
+        const std::string s = suggestion(name, names);
+        hint += "meshfit " + sub->get_name() + " has no option " + name +
+                (s.empty() ? std::string() : "; did you mean " + s + "?") + "\n";
+      }
+      throw Usage_error{message + "\n" + hint + "(meshfit " + sub->get_name() + " --help lists its options)"};
+    }
+    std::vector<std::string> commands;
+    for (const Command_spec& c : command_specs()) commands.push_back(c.name);
+    if (!words.empty() && words[0].compare(0, 1, "-") != 0) {
+      const std::string s = suggestion(words[0], commands);
+      hint = "unknown command '" + words[0] + "'" + (s.empty() ? std::string() : "; did you mean " + s + "?") + "\n";
+    } else if (words.empty()) {
+      hint = "no command given\n";
+    }
+    throw Usage_error{hint + message + "\n(meshfit --help lists the commands)"};
+  }
+
+  const CLI::App* sub = app.get_subcommands().front();
+  cl.command = sub->get_name();
+  for (const auto& kv : options[cl.command]) {
+    if (kv.second->count() == 0) continue;
+    const std::string key = cl.command + " " + kv.first;
+    if (holder.count(key)) cl.values[kv.first] = holder[key];
+  }
+  cl.quiet = flags[cl.command + " --quiet"];
+  cl.coarse_only = flags[cl.command + " --coarse-only"];
+  cl.allow_defects = flags[cl.command + " --allow-defects"];
+  cl.no_self_intersection_check = flags[cl.command + " --no-self-intersection-check"];
+  cl.curves_in_mesh = flags[cl.command + " --curves-in-mesh"];
+  if (cl.command == "view") {
+    // A report belongs to the --result given before it.
+    std::size_t r = 0, rr = 0;
+    for (const CLI::Option* o : sub->parse_order()) {
+      if (o->get_name() == "--result") {
+        cl.results.push_back(results.at(r++));
+      } else if (o->get_name() == "--result-report") {
+        if (cl.result_reports.size() >= cl.results.size())
+          throw Usage_error{"--result-report " + result_reports.at(rr) + " follows no --result of its own"};
+        cl.result_reports.resize(cl.results.size());
+        cl.result_reports.back() = result_reports.at(rr++);
+      }
+    }
+  }
+  return parsed;
 }
 
 double merge_tolerance(const Command_line& cl) {
@@ -147,7 +306,6 @@ double merge_tolerance(const Command_line& cl) {
 }
 
 int run_check(const Command_line& cl) {
-  require(cl, {"--template", "--curves", "--correspondences"}, {"--merge-tolerance"});
   const meshfit::Check_summary s =
       meshfit::check_inputs(cl.values.at("--template"), cl.values.at("--curves"),
                             cl.values.at("--correspondences"), merge_tolerance(cl));
@@ -178,48 +336,163 @@ int run_check(const Command_line& cl) {
   return success;
 }
 
-std::string json_number(double v) {
-  if (!std::isfinite(v)) return "null";
-  std::ostringstream os;
-  os << std::setprecision(6) << v;
-  return os.str();
-}
+// ---- progress -----------------------------------------------------------------------------------
+
+/// Progress on stderr: on a terminal one line that rewrites itself (overall percentage, stage,
+/// step, elapsed time); otherwise one line each time the step changes (a hundred smoothing
+/// iterations are one line).
+class Progress_display {
+ public:
+  void start(const std::string& command, bool quiet) {
+    m_command = command;
+    m_quiet = quiet;
+    m_tty = ::isatty(2) == 1;
+    m_start = std::chrono::steady_clock::now();
+  }
+  bool quiet() const { return m_quiet; }
+  /// Where `stage` sits in the command's run, as [begin, end) of the whole.
+  std::pair<double, double> span(const std::string& stage) const {
+    if (m_command == "fit") {
+      if (stage == "deform") return {0.0, 0.45};
+      if (stage == "partition") return {0.45, 0.6};
+      if (stage == "smooth") return {0.6, 0.95};
+      if (stage == "fit") return {0.95, 1.0};
+    }
+    return {0.0, 1.0};
+  }
+  void step(const meshfit::Progress_step& s) {
+    if (m_quiet) return;
+    const double elapsed = seconds();
+    if (!m_tty) {
+      if (s.stage == m_stage && s.step == m_step) return;
+      m_stage = s.stage;
+      m_step = s.step;
+      std::cerr << "meshfit: " << s.stage << ": " << s.step;
+      if (s.total > 1) std::cerr << " (" << s.index + 1 << "/" << s.total << ")";
+      std::cerr << "\n";
+      return;
+    }
+    const auto now = std::chrono::steady_clock::now();
+    if (s.stage == m_stage && s.step == m_step && s.index + 1 < s.total &&
+        now - m_last_draw < std::chrono::milliseconds(100))
+      return;
+    m_stage = s.stage;
+    m_step = s.step;
+    m_last_draw = now;
+    const auto [begin, end] = span(s.stage);
+    double within = s.total > 0 ? double(s.index) / double(s.total) : 0.0;
+    // deform numbers its coarse and its fine steps from 0 each: the coarse level is the first fifth.
+    if (s.stage == "deform") within = s.step.compare(0, 5, "fine:") == 0 ? 0.2 + 0.8 * within : 0.2 * within;
+    m_percent = std::max(m_percent, static_cast<int>(100 * (begin + (end - begin) * within)));
+    const int percent = m_percent;
+    std::ostringstream line;
+    line << "meshfit " << m_command << ' ' << std::setw(3) << percent << "%  " << std::fixed << std::setprecision(1)
+         << elapsed << " s  " << s.stage << ": " << s.step;
+    if (s.total > 1) line << " (" << s.index + 1 << "/" << s.total << ")";
+    std::string text = line.str();
+    winsize w{};
+    const std::size_t width = ::ioctl(2, TIOCGWINSZ, &w) == 0 && w.ws_col > 10 ? w.ws_col - 1 : 79;
+    if (text.size() > width) text.resize(width);
+    std::cerr << "\r\033[K" << text << std::flush;
+    m_line_shown = true;
+  }
+  /// Ends the rewriting line, before other output.
+  void finish() {
+    if (m_line_shown) std::cerr << "\r\033[K" << std::flush;
+    m_line_shown = false;
+  }
+  double seconds() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - m_start).count();
+  }
+
+ private:
+  std::string m_command, m_stage, m_step;
+  bool m_quiet = true, m_tty = false, m_line_shown = false;
+  int m_percent = 0;  ///< never goes back
+  std::chrono::steady_clock::time_point m_start, m_last_draw;
+} progress_display;
+
+// ---- the report (nlohmann-json; doc/report-schema.json) -----------------------------------------
+
+using Json = nlohmann::ordered_json;
+
+/// A number, or null when it is not finite (JSON has no NaN or infinity).
+Json number(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
 
 /// The report of the running command once its path is checked, so that every exit 1 or 3 after
 /// that writes one (main's handlers write a short one when the command did not get to it).
 struct Pending_report {
   std::string path, command;
   std::string stage = "read";  ///< the stage running (from the progress callback)
+  Json inputs = Json::object(), outputs = Json::object();
   bool written = false;
 } pending_report;
 
-/// Checks the output paths before any work: the mesh output's format, that it and the report can
-/// be written (regular files in existing directories), and that neither is an input or the other.
-/// Returns the report path ("" when none).
+/// A report with every top-level key, the same in every command: what the run did and whether it
+/// completed. Commands fill timings_s, counts, quality and details.
+Json report_skeleton(const std::string& command, const std::string& failure, const std::string& stage,
+                     int exit_status) {
+  Json j;
+  j["schema"] = "meshfit-report";
+  j["schema_version"] = report_schema_version;
+  j["command"] = command;
+  j["meshfit_version"] = MESHFIT_VERSION_STRING;
+  j["completed"] = failure.empty();
+  j["failure"] = failure.empty() ? Json(nullptr) : Json(failure);
+  j["stage"] = failure.empty() ? Json(nullptr) : Json(stage);
+  j["exit_status"] = exit_status;
+  j["verified"] = nullptr;
+  j["inputs"] = pending_report.inputs;
+  j["outputs"] = pending_report.outputs;
+  j["timings_s"] = Json::object();
+  j["counts"] = Json::object();
+  j["quality"] = Json::object();
+  j["details"] = Json::object();
+  j["warnings"] = Json::array();
+  return j;
+}
+
+/// Checks the output paths before any work: the mesh output's format, that it, its curve file and
+/// the report can be written (regular files in existing directories), and that none is an input or
+/// another output. Returns the report path ("" when none; "-" for stdout).
 std::string check_outputs(const Command_line& cl, const std::vector<std::string>& inputs) {
   const std::string& output = cl.values.at("--output");
   meshfit::mesh_format_of(output);
   meshfit::check_output_path(output, inputs);
+  pending_report.inputs = Json::object();
+  for (const char* k : {"--template", "--curves", "--correspondences"})
+    if (cl.values.count(k)) pending_report.inputs[std::string(k + 2)] = cl.values.at(k);
+  pending_report.outputs = Json::object();
+  pending_report.outputs["mesh"] = output;
+  pending_report.outputs["curves"] = nullptr;
+  std::vector<std::string> others = inputs;
+  others.push_back(output);
+  if (!cl.curves_in_mesh && cl.command != "deform") {
+    const std::string curves = meshfit::curve_edges_path(output);
+    meshfit::check_output_path(curves, others);
+    others.push_back(curves);
+  }
   if (!cl.values.count("--report")) return "";
   const std::string& report_path = cl.values.at("--report");
-  meshfit::check_output_path(report_path, inputs);
-  meshfit::check_output_path(output, {report_path});
+  if (report_path != "-") {
+    meshfit::check_output_path(report_path, others);
+    for (const std::string& o : others)
+      if (o != report_path) meshfit::check_output_path(o, {report_path});
+  }
   pending_report.path = report_path;
   pending_report.command = cl.command;
   return report_path;
 }
 
-void write_report(const std::string& report_path, const std::string& text) {
+void write_report(const std::string& report_path, const Json& report) {
   if (report_path.empty()) return;
   pending_report.written = true;  // (a failure to write it is not retried)
+  const std::string text = report.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
+  if (report_path == "-") {
+    std::cout << text << std::flush;
+    return;
+  }
   meshfit::internal::write_file_atomically(report_path, [&](std::ostream& os) { os << text; });
-}
-
-/// "completed", "failure" and "stage" of a report: `failure` empty when the command completed.
-std::string json_outcome(const std::string& failure, const std::string& stage) {
-  return std::string("  \"completed\": ") + (failure.empty() ? "true" : "false") + ",\n  \"failure\": " +
-         (failure.empty() ? "null" : json_string(failure)) + ",\n  \"stage\": " +
-         (failure.empty() ? "null" : json_string(stage)) + ",\n";
 }
 
 /// The report of a command that failed before it could gather its figures (bad input found after
@@ -227,57 +500,76 @@ std::string json_outcome(const std::string& failure, const std::string& stage) {
 void write_failure_report(const std::string& failure, const std::string& stage, int exit_status) noexcept {
   if (pending_report.path.empty() || pending_report.written) return;
   try {
-    std::ostringstream js;
-    js << "{\n  \"command\": \"" << pending_report.command << "\",\n  \"meshfit_version\": \"" << MESHFIT_VERSION_STRING
-       << "\",\n" << json_outcome(failure, stage) << "  \"exit_status\": " << exit_status
-       << ",\n  \"timings_s\": {},\n  \"counts\": {}\n}\n";
-    write_report(pending_report.path, js.str());
+    write_report(pending_report.path, report_skeleton(pending_report.command, failure, stage, exit_status));
   } catch (const std::exception& e) {
     std::cerr << "meshfit: could not write the report: " << e.what() << "\n";
   }
 }
 
-/// Writes the output mesh, never over an input or the report.
+/// Writes the output mesh, never over an input or the report, and its curve edges beside it.
 void write_output(const Command_line& cl, const meshfit::Mesh_data& out, const std::vector<std::string>& inputs,
                   const std::string& report_path) {
   meshfit::Write_options options;
   options.protected_paths = inputs;
-  if (!report_path.empty()) options.protected_paths.push_back(report_path);
-  meshfit::write_mesh_data(cl.values.at("--output"), out, options);
+  options.curves_in_mesh = cl.curves_in_mesh;
+  if (!report_path.empty() && report_path != "-") options.protected_paths.push_back(report_path);
+  const std::string& output = cl.values.at("--output");
+  options.protected_paths.push_back(meshfit::curve_edges_path(output));
+  meshfit::write_mesh_data(output, out, options);
+  progress_display.finish();
   if (!cl.quiet)
-    std::cerr << "meshfit: " << cl.command << ": wrote " << cl.values.at("--output") << " (" << out.points.size()
-              << " vertices, " << out.triangles.size() << " faces)\n";
+    std::cerr << "meshfit: " << cl.command << ": wrote " << output << " (" << out.points.size() << " vertices, "
+              << out.triangles.size() << " faces)\n";
+  if (!cl.curves_in_mesh && !out.curve_edges.empty()) {
+    options.protected_paths.back() = output;
+    const std::string curves = meshfit::curve_edges_path(output);
+    meshfit::write_curve_edges(curves, out, options);
+    if (!cl.quiet)
+      std::cerr << "meshfit: " << cl.command << ": wrote " << curves << " (" << out.curve_edges.size()
+                << " curve edges)\n";
+  }
 }
 
-meshfit::Progress_callback progress_printer(bool quiet) {
-  return [quiet](const meshfit::Progress_step& s) {
+/// Fills the report's `outputs.curves` with the curve file the run will write (after work).
+void note_curve_output(const Command_line& cl, const meshfit::Mesh_data& out, Json& report) {
+  if (!cl.curves_in_mesh && !out.curve_edges.empty())
+    report["outputs"]["curves"] = meshfit::curve_edges_path(cl.values.at("--output"));
+}
+
+meshfit::Progress_callback progress_printer() {
+  return [](const meshfit::Progress_step& s) {
     pending_report.stage = s.stage;
-    if (!quiet) std::cerr << "meshfit: " << s.stage << ": " << s.step << " (" << s.index + 1 << "/" << s.total << ")\n";
+    progress_display.step(s);
     return true;
   };
 }
 
 /// The fine level's own figures, the same block in the reports of deform and fit.
-std::string json_fine_level(const meshfit::Deformation_report& r) {
-  std::ostringstream js;
-  js << "{\"method\": \"" << meshfit::to_string(r.fine_level) << "\"";
-  if (r.fine_level == meshfit::Fine_level::surface)
-    js << ", \"largest_projection_distance\": " << json_number(r.largest_projection_distance)
-       << ", \"segments_embedded\": " << r.segments_embedded << ", \"segments_not_embedded\": "
-       << r.segments_not_embedded.size() << ", \"segments_by_shortest_path\": " << r.segments_by_shortest_path
-       << ", \"edges_split_between_curves\": " << r.edges_split_between_curves
-       << ", \"projections_off_nearest\": " << r.projections_off_nearest << ", \"displacement_free_vertices\": " << r.displacement.free_vertices
-       << ", \"untangle_rounds\": " << r.untangle_rounds << ", \"untangled_vertices\": " << r.untangled_vertices
-       << ", \"remaining_folds\": " << r.remaining_folds;
-  js << ", \"coarse_affine_determinant\": " << json_number(r.coarse_affine_determinant) << "}";
-  return js.str();
+Json json_fine_level(const meshfit::Deformation_report& r) {
+  Json j;
+  j["method"] = meshfit::to_string(r.fine_level);
+  if (r.fine_level == meshfit::Fine_level::surface) {
+    j["largest_projection_distance"] = number(r.largest_projection_distance);
+    j["segments_embedded"] = r.segments_embedded;
+    j["segments_not_embedded"] = r.segments_not_embedded.size();
+    j["segments_by_shortest_path"] = r.segments_by_shortest_path;
+    j["edges_split_between_curves"] = r.edges_split_between_curves;
+    j["projections_off_nearest"] = r.projections_off_nearest;
+    j["displacement_free_vertices"] = r.displacement.free_vertices;
+    j["untangle_rounds"] = r.untangle_rounds;
+    j["untangled_vertices"] = r.untangled_vertices;
+    j["remaining_folds"] = r.remaining_folds;
+  }
+  j["coarse_affine_determinant"] = number(r.coarse_affine_determinant);
+  return j;
 }
 
-std::string json_quality(const meshfit::Mesh_data& out) {
-  std::ostringstream js;
-  js << "{\"vertices\": " << out.points.size() << ", \"faces\": " << out.triangles.size()
-     << ", \"minimum_angle_deg\": " << json_number(meshfit::minimum_angle_degrees(out)) << "}";
-  return js.str();
+Json json_quality(const meshfit::Mesh_data& out) {
+  Json j;
+  j["vertices"] = out.points.size();
+  j["faces"] = out.triangles.size();
+  j["minimum_angle_deg"] = number(meshfit::minimum_angle_degrees(out));
+  return j;
 }
 
 struct Deform_options {
@@ -355,8 +647,6 @@ void read_fit_inputs(const Command_line& cl, Fit_inputs& in) {
 }
 
 int run_deform(const Command_line& cl) {
-  require(cl, {"--template", "--curves", "--correspondences", "--output"},
-          {"--report", "--merge-tolerance", "--kernel", "--curve-density", "--max-rounds", "--fine-level", "--max-memory"});
   const std::string& template_path = cl.values.at("--template");
   const std::string& curves_path = cl.values.at("--curves");
   const std::string& pairs_path = cl.values.at("--correspondences");
@@ -376,7 +666,7 @@ int run_deform(const Command_line& cl) {
   const double read_s = in.read_seconds;
 
   const bool quiet = cl.quiet;
-  const meshfit::Progress_callback progress = progress_printer(quiet);
+  const meshfit::Progress_callback progress = progress_printer();
   meshfit::Deformation_report r;
   std::string failure, stage = "deform";  // a failure, reported with the figures gathered so far
   try {
@@ -408,26 +698,34 @@ int run_deform(const Command_line& cl) {
   if (!report_path.empty()) {
     std::size_t embedded = 0;
     for (std::size_t v : r.mesh_vertex_of_network_vertex) embedded += v != meshfit::Closest_point_assignment::unassigned;
-    std::ostringstream js;
-    js << "{\n  \"command\": \"deform\",\n  \"meshfit_version\": \"" << MESHFIT_VERSION_STRING << "\",\n"
-       << json_outcome(failure, stage)
-       << "  \"timings_s\": {\"read\": " << json_number(read_s) << ", \"coarse\": " << json_number(r.coarse_seconds)
-       << ", \"fine\": " << json_number(r.fine_seconds) << "},\n"
-       << "  \"counts\": {\"correspondences\": " << r.user_pairs << ", \"coarse_auxiliary_pairs\": "
-       << r.coarse_fit.auxiliary_pairs << ", \"fine_pairs\": " << r.fine_pairs << ", \"flip_rounds\": " << r.flip_rounds
-       << ", \"flips_found\": " << r.flips_found << ", \"flips_fixed\": " << (r.flips_found - r.remaining_flips)
-       << ", \"flips_remaining\": " << r.remaining_flips << ", \"coarse_flipped_faces\": " << r.coarse_flipped_faces
-       << ", \"orientation_reversed\": " << (r.orientation_reversed ? "true" : "false") << ", \"faces_subdivided\": " << r.faces_subdivided
-       << ", \"vertices_inserted_for_density\": " << r.vertices_inserted_for_density
-       << ", \"vertices_inserted_for_flips\": " << r.vertices_inserted_for_flips
-       << ", \"network_vertices\": " << network.number_of_vertices() << ", \"network_vertices_embedded\": " << embedded
-       << ", \"network_vertices_dropped\": " << r.dropped_network_vertices.size() << "},\n"
-       << "  \"fine_level\": " << json_fine_level(r) << ",\n"
-       << "  \"residuals\": {\"coarse\": " << json_number(r.coarse_fit.relative_residual) << ", \"fine\": "
-       << json_number(r.fine_fit.relative_residual) << "},\n"
-       << "  \"quality\": " << json_quality(out) << "\n}\n";
-    write_report(report_path, js.str());
+    Json js = report_skeleton("deform", failure, stage, failure.empty() ? success : algorithm_failed);
+    js["timings_s"] = {{"read", number(read_s)}, {"coarse", number(r.coarse_seconds)}, {"fine", number(r.fine_seconds)},
+                       {"total", number(progress_display.seconds())}};
+    js["counts"] = {{"correspondences", r.user_pairs},
+                    {"coarse_auxiliary_pairs", r.coarse_fit.auxiliary_pairs},
+                    {"fine_pairs", r.fine_pairs},
+                    {"flip_rounds", r.flip_rounds},
+                    {"flips_found", r.flips_found},
+                    {"flips_fixed", r.flips_found - r.remaining_flips},
+                    {"flips_remaining", r.remaining_flips},
+                    {"coarse_flipped_faces", r.coarse_flipped_faces},
+                    {"orientation_reversed", r.orientation_reversed},
+                    {"faces_subdivided", r.faces_subdivided},
+                    {"vertices_inserted_for_density", r.vertices_inserted_for_density},
+                    {"vertices_inserted_for_flips", r.vertices_inserted_for_flips},
+                    {"network_vertices", network.number_of_vertices()},
+                    {"network_vertices_embedded", embedded},
+                    {"network_vertices_dropped", r.dropped_network_vertices.size()}};
+    js["quality"] = json_quality(out);
+    js["details"]["fine_level"] = json_fine_level(r);
+    js["details"]["residuals"] = {{"coarse", number(r.coarse_fit.relative_residual)},
+                                  {"fine", number(r.fine_fit.relative_residual)}};
+    if (r.coarse_flipped_faces > 0)
+      js["warnings"].push_back("the coarse level turns " + std::to_string(r.coarse_flipped_faces) +
+                               " faces over relative to its affine part");
+    write_report(report_path, js);
   }
+  progress_display.finish();
   if (!failure.empty()) throw meshfit::Algorithm_failure("deform", failure);
   if (!quiet && r.coarse_flipped_faces > 0)
     std::cerr << "meshfit: deform: warning: the coarse level turns " << r.coarse_flipped_faces
@@ -437,7 +735,6 @@ int run_deform(const Command_line& cl) {
 }
 
 int run_partition(const Command_line& cl) {
-  require(cl, {"--template", "--curves", "--output"}, {"--report", "--merge-tolerance"});
   const std::string& mesh_path = cl.values.at("--template");
   const std::string& curves_path = cl.values.at("--curves");
   const std::vector<std::string> inputs{mesh_path, curves_path};
@@ -456,7 +753,7 @@ int run_partition(const Command_line& cl) {
   auto region = tm.add_property_map<Mesh::Face_index, int>("f:meshfit_region", 0).first;
   meshfit::Partition_report r;
   try {
-    r = meshfit::partition_mesh(tm, network, meshfit::parameters::progress(progress_printer(cl.quiet),
+    r = meshfit::partition_mesh(tm, network, meshfit::parameters::progress(progress_printer(),
         CGAL::parameters::edge_is_constrained_map(curve).face_patch_map(region)));
   } catch (const meshfit::Invalid_input& e) {
     // A network vertex that is not a mesh vertex: name the files.
@@ -466,22 +763,27 @@ int run_partition(const Command_line& cl) {
   const meshfit::Mesh_data out =
       meshfit::to_mesh_data(tm, CGAL::parameters::edge_is_constrained_map(curve).face_patch_map(region));
 
-  std::ostringstream js;
   const std::string failure =
       r.not_embedded.empty() ? "" : std::to_string(r.not_embedded.size()) + " segments could not be made mesh edges";
-  js << "{\n  \"command\": \"partition\",\n  \"meshfit_version\": \"" << MESHFIT_VERSION_STRING << "\",\n"
-     << json_outcome(failure, "partition")
-     << "  \"timings_s\": {\"read\": " << json_number(read_s) << ", \"partition\": " << json_number(r.seconds) << "},\n"
-     << "  \"counts\": {\"segments\": " << r.segments << ", \"segments_already_edges\": " << r.existing_edges
-     << ", \"segments_embedded_by_walk\": " << r.by_walk << ", \"segments_embedded_by_fallback\": " << r.by_fallback
-     << ", \"segments_not_embedded\": " << r.not_embedded.size() << ", \"walks_failed\": " << r.walks_failed
-     << ", \"faces_crossed\": " << r.faces_crossed << ", \"edge_flips\": " << r.edge_flips
-     << ", \"vertices_moved\": " << r.vertices_moved << ", \"curve_edges\": " << r.curve_edges
-     << ", \"regions\": " << r.regions << "},\n"
-     << "  \"not_embedded_segments\": [";
-  for (std::size_t i = 0; i < r.not_embedded.size(); ++i) js << (i ? ", " : "") << r.not_embedded[i];
-  js << "],\n  \"quality\": " << json_quality(out) << "\n}\n";
-  write_report(report_path, js.str());
+  Json js = report_skeleton("partition", failure, "partition", failure.empty() ? success : algorithm_failed);
+  js["timings_s"] = {{"read", number(read_s)}, {"partition", number(r.seconds)},
+                     {"total", number(progress_display.seconds())}};
+  js["counts"] = {{"segments", r.segments},
+                  {"segments_already_edges", r.existing_edges},
+                  {"segments_embedded_by_walk", r.by_walk},
+                  {"segments_embedded_by_fallback", r.by_fallback},
+                  {"segments_not_embedded", r.not_embedded.size()},
+                  {"walks_failed", r.walks_failed},
+                  {"faces_crossed", r.faces_crossed},
+                  {"edge_flips", r.edge_flips},
+                  {"vertices_moved", r.vertices_moved},
+                  {"curve_edges", r.curve_edges},
+                  {"regions", r.regions}};
+  js["quality"] = json_quality(out);
+  js["details"]["not_embedded_segments"] = r.not_embedded;
+  if (failure.empty()) note_curve_output(cl, out, js);
+  write_report(report_path, js);
+  progress_display.finish();
 
   if (!r.not_embedded.empty()) {
     std::string list;
@@ -534,9 +836,6 @@ Smooth_options smooth_options(const Command_line& cl) {
 }
 
 int run_smooth(const Command_line& cl) {
-  require(cl, {"--template", "--output"},
-          {"--curves", "--report", "--merge-tolerance", "--iterations", "--mc-iterations", "--laplacian-iterations",
-           "--step"});
   const std::string& template_path = cl.values.at("--template");
   std::vector<std::string> inputs{template_path};
   if (cl.values.count("--curves")) inputs.push_back(cl.values.at("--curves"));
@@ -546,7 +845,12 @@ int run_smooth(const Command_line& cl) {
   const double step = so.step;
 
   const auto t0 = std::chrono::steady_clock::now();
-  meshfit::Mesh_data data = meshfit::read_mesh_data(template_path);
+  meshfit::Mesh_read_report read_report;
+  meshfit::Mesh_data data = meshfit::read_mesh_data(template_path, &read_report);
+  // partition's output keeps its curve edges beside it unless --curves-in-mesh: they are the
+  // constraints all the same.
+  const std::string curves_beside = meshfit_cli::add_curve_edges_beside(data, template_path);
+  if (!curves_beside.empty()) pending_report.inputs["curve_edges"] = curves_beside;
   if (data.triangles.empty())
     throw meshfit::Invalid_input(meshfit::Input_location{template_path, 0, meshfit::Input_location::no_offset},
                                  "the template has no face");
@@ -581,12 +885,7 @@ int run_smooth(const Command_line& cl) {
   const double read_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   const bool quiet = cl.quiet;
-  auto progress = [quiet](const meshfit::Progress_step& s) {
-    // One line per ten iterations: a hundred lines would drown the other stages' output.
-    if (!quiet && (s.index % 10 == 0 || s.index + 1 == s.total))
-      std::cerr << "meshfit: " << s.stage << ": " << s.step << " (" << s.index + 1 << "/" << s.total << ")\n";
-    return true;
-  };
+  const meshfit::Progress_callback progress = progress_printer();
   meshfit::Smoothing_report r;
   std::string failure;
   try {
@@ -605,26 +904,47 @@ int run_smooth(const Command_line& cl) {
   for (auto e : tm.edges())
     if (curve[e]) data.curve_edges.push_back({tm.vertex(e, 0).idx(), tm.vertex(e, 1).idx()});
 
+  // A listed edge without a curve flag (CGAL's write_PLY lists every edge) is not a constraint.
+  const std::string ignored_edges =
+      read_report.unflagged_edges_ignored == 0
+          ? std::string()
+          : std::to_string(read_report.unflagged_edges_ignored) + " edges of " + template_path +
+                " carry no curve flag (an integer edge property 'curve'): they are not held as curve edges";
   if (!report_path.empty()) {
-    std::ostringstream js;
-    js << "{\n  \"command\": \"smooth\",\n  \"meshfit_version\": \"" << MESHFIT_VERSION_STRING << "\",\n"
-       << json_outcome(failure, "smooth")
-       << "  \"timings_s\": {\"read\": " << json_number(read_s) << ", \"smooth\": " << json_number(r.seconds) << "},\n"
-       << "  \"counts\": {\"iterations\": " << r.iterations << ", \"mean_curvature_iterations\": " << mc
-       << ", \"laplacian_iterations\": " << lap << ", \"fixed_vertices\": " << r.fixed_vertices
-       << ", \"curve_edges\": " << curve_edges << ", \"network_vertices\": " << network_vertices
-       << ", \"network_vertices_on_mesh\": " << matched_vertices << ", \"network_segments\": " << segments
-       << ", \"network_segments_on_mesh\": " << matched_segments << ", \"steps_reduced\": " << r.steps_reduced
-       << ", \"steps_cancelled\": " << r.steps_cancelled << ", \"clamped_cotangents\": " << r.clamped_cotangents
-       << ", \"projections_clamped\": " << r.projections_clamped << "},\n"
-       << "  \"displacement\": {\"mean\": " << json_number(r.mean_displacement) << ", \"max\": "
-       << json_number(r.max_displacement) << ", \"last_iteration_max\": " << json_number(r.last_step_max_displacement)
-       << "},\n"
-       << "  \"quality\": {\"vertices\": " << data.points.size() << ", \"faces\": " << data.triangles.size()
-       << ", \"minimum_angle_deg_before\": " << json_number(min_angle_before)
-       << ", \"minimum_angle_deg\": " << json_number(meshfit::minimum_angle_degrees(data)) << "}\n}\n";
-    write_report(report_path, js.str());
+    Json js = report_skeleton("smooth", failure, "smooth", failure.empty() ? success : algorithm_failed);
+    js["timings_s"] = {{"read", number(read_s)}, {"smooth", number(r.seconds)},
+                       {"total", number(progress_display.seconds())}};
+    js["counts"] = {{"iterations", r.iterations},
+                    {"mean_curvature_iterations", mc},
+                    {"laplacian_iterations", lap},
+                    {"fixed_vertices", r.fixed_vertices},
+                    {"curve_edges", curve_edges},
+                    {"unflagged_edges_ignored", read_report.unflagged_edges_ignored},
+                    {"network_vertices", network_vertices},
+                    {"network_vertices_on_mesh", matched_vertices},
+                    {"network_segments", segments},
+                    {"network_segments_on_mesh", matched_segments},
+                    {"steps_reduced", r.steps_reduced},
+                    {"steps_cancelled", r.steps_cancelled},
+                    {"clamped_cotangents", r.clamped_cotangents},
+                    {"projections_clamped", r.projections_clamped}};
+    js["quality"] = json_quality(data);
+    js["quality"]["minimum_angle_deg_before"] = number(min_angle_before);
+    js["details"]["displacement"] = {{"mean", number(r.mean_displacement)},
+                                     {"max", number(r.max_displacement)},
+                                     {"last_iteration_max", number(r.last_step_max_displacement)}};
+    if (!ignored_edges.empty()) js["warnings"].push_back(ignored_edges);
+    if (!curves_beside.empty()) js["warnings"].push_back("curve edges read from " + curves_beside);
+    if (segments > matched_segments)
+      js["warnings"].push_back(std::to_string(segments - matched_segments) + " of " + std::to_string(segments) +
+                               " network segments are not mesh edges");
+    if (failure.empty()) note_curve_output(cl, data, js);
+    write_report(report_path, js);
   }
+  progress_display.finish();
+  if (!quiet && !ignored_edges.empty()) std::cerr << "meshfit: smooth: warning: " << ignored_edges << "\n";
+  if (!quiet && !curves_beside.empty())
+    std::cerr << "meshfit: smooth: curve edges read from " << curves_beside << "\n";
   if (!failure.empty()) throw meshfit::Algorithm_failure("smooth", failure);
   if (!quiet && segments > matched_segments)
     std::cerr << "meshfit: smooth: warning: " << segments - matched_segments << " of " << segments
@@ -638,7 +958,6 @@ int run_smooth(const Command_line& cl) {
 }
 
 int run_view(const Command_line& cl) {
-  require(cl, {"--template", "--curves", "--output"}, {"--correspondences", "--merge-tolerance"});
   meshfit_cli::View_inputs in;
   in.template_path = cl.values.at("--template");
   in.curves_path = cl.values.at("--curves");
@@ -666,10 +985,6 @@ int run_view(const Command_line& cl) {
 }
 
 int run_fit(const Command_line& cl) {
-  require(cl, {"--template", "--curves", "--correspondences", "--output"},
-          {"--report", "--merge-tolerance", "--kernel", "--curve-density", "--max-rounds", "--fine-level", "--max-memory", "--iterations",
-           "--mc-iterations", "--laplacian-iterations", "--step"});
-  if (cl.coarse_only) throw Usage_error{"meshfit fit does not take --coarse-only (use meshfit deform)"};
   const std::vector<std::string> inputs{cl.values.at("--template"), cl.values.at("--curves"),
                                         cl.values.at("--correspondences")};
   const std::string report_path = check_outputs(cl, inputs);
@@ -691,7 +1006,7 @@ int run_fit(const Command_line& cl) {
                     so.laplacian_iterations, meshfit::parameters::step_size(
                         so.step, meshfit::parameters::check_self_intersections(
                             !cl.no_self_intersection_check, meshfit::parameters::progress(
-                                progress_printer(cl.quiet), meshfit::parameters::memory_limit(
+                                progress_printer(), meshfit::parameters::memory_limit(
                                     d.memory_limit, CGAL::parameters::number_of_iterations(d.rounds)
                                     .edge_is_constrained_map(curve).face_patch_map(region)))))))))));
   } catch (const meshfit::Numerical_error& e) {
@@ -715,43 +1030,58 @@ int run_fit(const Command_line& cl) {
   const meshfit::Partition_report& pr = r.partition;
   const meshfit::Smoothing_report& sr = r.smoothing;
 
-  std::ostringstream js;
-  js << "{\n  \"command\": \"fit\",\n  \"meshfit_version\": \"" << MESHFIT_VERSION_STRING << "\",\n"
-     << json_outcome(failure, stage)
-     << "  \"verified\": " << (completed && problems.empty() ? "true" : "false") << ",\n"
-     << "  \"timings_s\": {\"read\": " << json_number(in.read_seconds) << ", \"deform\": " << json_number(r.deform_seconds)
-     << ", \"partition\": " << json_number(r.partition_seconds) << ", \"smooth\": " << json_number(r.smooth_seconds)
-     << ", \"verify\": " << json_number(r.verify_seconds) << ", \"total\": " << json_number(r.total_seconds) << "},\n"
-     << "  \"counts\": {\"correspondences\": " << dr.user_pairs << ", \"fine_pairs\": " << dr.fine_pairs
-     << ", \"flip_rounds\": " << dr.flip_rounds << ", \"flips_found\": " << dr.flips_found
-     << ", \"flips_fixed\": " << (dr.flips_found - dr.remaining_flips) << ", \"flips_remaining\": " << dr.remaining_flips
-     << ", \"coarse_flipped_faces\": " << dr.coarse_flipped_faces << ", \"faces_subdivided\": " << dr.faces_subdivided
-     << ", \"vertices_inserted_for_density\": " << dr.vertices_inserted_for_density
-     << ", \"vertices_inserted_for_flips\": " << dr.vertices_inserted_for_flips << ", \"segments\": " << pr.segments
-     << ", \"segments_already_edges\": " << pr.existing_edges << ", \"segments_embedded_by_walk\": " << pr.by_walk
-     << ", \"segments_embedded_by_fallback\": " << pr.by_fallback << ", \"segments_not_embedded\": " << pr.not_embedded.size()
-     << ", \"faces_crossed\": " << pr.faces_crossed << ", \"edge_flips\": " << pr.edge_flips
-     << ", \"vertices_moved_onto_segments\": " << pr.vertices_moved << ", \"regions\": " << pr.regions
-     << ", \"smoothing_iterations\": " << sr.iterations << ", \"vertices_fixed_in_smoothing\": " << sr.fixed_vertices
-     << "},\n"
-     << "  \"fine_level\": " << json_fine_level(dr) << ",\n"
-     << "  \"verification\": {\"network_vertices_missing\": " << v.network_vertices_missing
-     << ", \"segments_not_chains\": " << v.segments_not_chains << ", \"flips_remaining\": " << v.flips_remaining
-     << ", \"degenerate_faces\": " << v.degenerate_faces << ", \"folded_edges\": " << v.folded_edges
-     << ", \"template_folded_edges\": " << v.template_folded_edges
-     << ", \"self_intersection_checked\": " << (v.self_intersection_checked ? "true" : "false")
-     << ", \"self_intersects\": " << (v.self_intersects ? "true" : "false")
-     << ", \"template_self_intersects\": " << (v.template_self_intersects ? "true" : "false")
-     << ", \"non_finite_coordinates\": " << v.non_finite_coordinates << ", \"regions\": " << v.regions
-     << ", \"expected_regions\": " << (v.expected_regions_known ? std::to_string(v.expected_regions) : "null")
-     << ", \"problems\": [";
-  for (std::size_t i = 0; i < problems.size(); ++i) js << (i ? ", " : "") << "\"" << problems[i] << "\"";
-  js << "]},\n"
-     << "  \"quality\": {\"template_vertices\": " << r.template_vertices << ", \"template_faces\": " << r.template_faces
-     << ", \"vertices\": " << out.points.size() << ", \"faces\": " << out.triangles.size()
-     << ", \"minimum_angle_deg\": " << json_number(completed ? r.minimum_angle_deg : meshfit::minimum_angle_degrees(out))
-     << ", \"mean_smoothing_displacement\": " << json_number(sr.mean_displacement) << "}\n}\n";
-  write_report(report_path, js.str());
+  Json js = report_skeleton("fit", failure, stage, failure.empty() ? success : algorithm_failed);
+  js["verified"] = completed && problems.empty();
+  js["timings_s"] = {{"read", number(in.read_seconds)}, {"deform", number(r.deform_seconds)},
+                     {"partition", number(r.partition_seconds)}, {"smooth", number(r.smooth_seconds)},
+                     {"verify", number(r.verify_seconds)}, {"total", number(r.total_seconds)}};
+  js["counts"] = {{"correspondences", dr.user_pairs},
+                  {"fine_pairs", dr.fine_pairs},
+                  {"flip_rounds", dr.flip_rounds},
+                  {"flips_found", dr.flips_found},
+                  {"flips_fixed", dr.flips_found - dr.remaining_flips},
+                  {"flips_remaining", dr.remaining_flips},
+                  {"coarse_flipped_faces", dr.coarse_flipped_faces},
+                  {"faces_subdivided", dr.faces_subdivided},
+                  {"vertices_inserted_for_density", dr.vertices_inserted_for_density},
+                  {"vertices_inserted_for_flips", dr.vertices_inserted_for_flips},
+                  {"segments", pr.segments},
+                  {"segments_already_edges", pr.existing_edges},
+                  {"segments_embedded_by_walk", pr.by_walk},
+                  {"segments_embedded_by_fallback", pr.by_fallback},
+                  {"segments_not_embedded", pr.not_embedded.size()},
+                  {"faces_crossed", pr.faces_crossed},
+                  {"edge_flips", pr.edge_flips},
+                  {"vertices_moved_onto_segments", pr.vertices_moved},
+                  {"regions", pr.regions},
+                  {"smoothing_iterations", sr.iterations},
+                  {"vertices_fixed_in_smoothing", sr.fixed_vertices}};
+  js["quality"] = {{"template_vertices", r.template_vertices},
+                   {"template_faces", r.template_faces},
+                   {"vertices", out.points.size()},
+                   {"faces", out.triangles.size()},
+                   {"minimum_angle_deg", number(completed ? r.minimum_angle_deg : meshfit::minimum_angle_degrees(out))},
+                   {"mean_smoothing_displacement", number(sr.mean_displacement)}};
+  js["details"]["fine_level"] = json_fine_level(dr);
+  js["details"]["verification"] = {
+      {"network_vertices_missing", v.network_vertices_missing},
+      {"segments_not_chains", v.segments_not_chains},
+      {"flips_remaining", v.flips_remaining},
+      {"degenerate_faces", v.degenerate_faces},
+      {"folded_edges", v.folded_edges},
+      {"template_folded_edges", v.template_folded_edges},
+      {"self_intersection_checked", v.self_intersection_checked},
+      {"self_intersects", v.self_intersects},
+      {"template_self_intersects", v.template_self_intersects},
+      {"non_finite_coordinates", v.non_finite_coordinates},
+      {"regions", v.regions},
+      {"expected_regions", v.expected_regions_known ? Json(v.expected_regions) : Json(nullptr)},
+      {"problems", problems}};
+  if (completed && !problems.empty())
+    for (const std::string& p : problems) js["warnings"].push_back("defect kept (--allow-defects): " + p);
+  if (failure.empty()) note_curve_output(cl, out, js);
+  write_report(report_path, js);
+  progress_display.finish();
 
   if (!failure.empty()) throw meshfit::Algorithm_failure("fit", failure);
   if (!problems.empty() && !cl.quiet) {
@@ -771,15 +1101,11 @@ int run_fit(const Command_line& cl) {
 
 int main(int argc, char** argv) {
   try {
-    if (argc >= 2 && (std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h")) {
-      std::cout << usage_text;
-      return success;
-    }
-    if (argc >= 2 && std::string(argv[1]) == "--version") {
-      std::cout << "meshfit " << MESHFIT_VERSION_STRING << "\n";
-      return success;
-    }
-    const Command_line cl = parse(argc, argv);
+    const Parsed parsed = parse(argc, argv);
+    if (parsed.exit_now) return success;
+    const Command_line& cl = parsed.cl;
+    progress_display.start(cl.command, cl.quiet);
+    pending_report.command = cl.command;
     if (cl.command == "check") return run_check(cl);
     if (cl.command == "fit") return run_fit(cl);
     if (cl.command == "deform") return run_deform(cl);
@@ -788,21 +1114,28 @@ int main(int argc, char** argv) {
     if (cl.command == "view") return run_view(cl);
     throw Usage_error{"unknown command '" + cl.command + "'"};
   } catch (const Usage_error& e) {
-    std::cerr << "meshfit: " << e.message << "\n" << usage_text;
+    progress_display.finish();
+    std::cerr << "meshfit: " << e.message << "\n";
+    // (An option value found wrong after the paths were checked: the report says so too.)
+    write_failure_report(e.message, "usage", usage_error);
     return usage_error;
   } catch (const meshfit::Invalid_input& e) {
+    progress_display.finish();
     std::cerr << "meshfit: error: " << e.what() << "\n";
     write_failure_report(e.what(), pending_report.stage, invalid_input);
     return invalid_input;
   } catch (const meshfit::Algorithm_failure& e) {
+    progress_display.finish();
     std::cerr << "meshfit: failed: " << e.what() << "\n";
     write_failure_report(e.what(), e.stage(), algorithm_failed);
     return algorithm_failed;
   } catch (const std::bad_alloc&) {
+    progress_display.finish();
     std::cerr << "meshfit: failed: out of memory (in " << pending_report.stage << "; --max-memory bounds the largest allocations)\n";
     write_failure_report("out of memory", pending_report.stage, algorithm_failed);
     return algorithm_failed;
   } catch (const std::exception& e) {
+    progress_display.finish();
     std::cerr << "meshfit: failed: " << e.what() << "\n";
     write_failure_report(e.what(), pending_report.stage, algorithm_failed);
     return algorithm_failed;

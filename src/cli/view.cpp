@@ -14,8 +14,10 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <map>
 #include <ostream>
 #include <set>
 #include <sstream>
@@ -142,6 +144,31 @@ std::string read_text(const std::string& path) {
 
 }  // namespace
 
+/// A result written without curve edges in the mesh file has them beside it
+/// (`<result>.curves.polylines.txt`, written with exact decimals): their points are vertices.
+std::string add_curve_edges_beside(meshfit::Mesh_data& mesh, const std::string& path) {
+  const std::string beside = meshfit::curve_edges_path(path);
+  if (!mesh.curve_edges.empty() || !std::filesystem::is_regular_file(beside)) return "";
+  const meshfit::Curve_network curves = meshfit::read_curve_network(beside);
+  std::map<std::array<double, 3>, std::size_t> vertex_at;
+  for (std::size_t i = 0; i < mesh.points.size(); ++i)
+    vertex_at.emplace(std::array<double, 3>{mesh.points[i].x(), mesh.points[i].y(), mesh.points[i].z()}, i);
+  for (const auto& s : curves.segments()) {
+    std::array<std::size_t, 2> e{};
+    for (int k = 0; k < 2; ++k) {
+      const meshfit::Point_3& p = curves.point(s[k]);
+      const auto it = vertex_at.find({p.x(), p.y(), p.z()});
+      if (it == vertex_at.end())
+        throw meshfit::Invalid_input(meshfit::Input_location{beside, 0, meshfit::Input_location::no_offset},
+                                     "a curve point is not a vertex of " + path);
+      e[k] = it->second;
+    }
+    mesh.curve_edges.push_back(e);
+  }
+  return beside;
+}
+
+
 View_summary write_view_page(std::ostream& os, const View_inputs& in) {
   View_summary summary;
   const meshfit::Mesh_data templ = meshfit::read_mesh_data(in.template_path);
@@ -157,7 +184,10 @@ View_summary write_view_page(std::ostream& os, const View_inputs& in) {
   }
   std::vector<meshfit::Mesh_data> results;
   std::vector<std::string> reports;
-  for (const std::string& r : in.results) results.push_back(meshfit::read_mesh_data(r));
+  for (const std::string& r : in.results) {
+    results.push_back(meshfit::read_mesh_data(r));
+    add_curve_edges_beside(results.back(), r);
+  }
   for (const std::string& r : in.reports) reports.push_back(r.empty() ? std::string() : read_text(r));
 
   const meshfit::Bbox_3& box = network.bbox();

@@ -2,6 +2,8 @@
 #ifndef MESHFIT_SRC_CLI_VIEW_H
 #define MESHFIT_SRC_CLI_VIEW_H
 
+#include <meshfit/io.h>
+
 #include <iosfwd>
 #include <string>
 #include <vector>
@@ -20,6 +22,12 @@ struct View_inputs {
 /// `text` as a JSON string. "</" is written "<\/", so that the text is also safe inside an HTML
 /// <script> element (the page embeds reports this way).
 std::string json_string(const std::string& text);
+
+/// Gives `mesh`, read from `path` without curve edges, those of the file meshfit writes beside its
+/// outputs (`<path>.curves.polylines.txt`, exact decimals: each point is a vertex of the mesh).
+/// Returns that file's path, or "" when the mesh has curve edges or there is no such file.
+/// \throws meshfit::Invalid_input naming the file when it is malformed or a point is not a vertex.
+std::string add_curve_edges_beside(meshfit::Mesh_data& mesh, const std::string& path);
 
 /// What went into the page, for the command's summary line.
 struct View_summary {
