@@ -1182,8 +1182,10 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
   // corners on curves: nothing of it can move when the curves take their places, and it folds or
   // collapses onto a segment. An interior edge that joins two held vertices and is no curve edge
   // is split at its midpoint, so that every face keeps a free corner to be moved (step 4). When
-  // such faces are a quarter of the mesh, the curves leave the template no room between them:
-  // say so, rather than grow the mesh and untangle what cannot be.
+  // such faces are a quarter of the mesh and the network has more than twice the template's
+  // vertices, the curves leave the template no room between them: say so, rather than grow the
+  // mesh and untangle what cannot be. (A template whose vertices all lie on the curves, a
+  // tetrahedron onto its own edges say, needs no room.)
   {
     std::size_t all_held = 0, total = 0;
     for (auto f : faces(tm)) {
@@ -1191,7 +1193,7 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
       ++total;
       if (on_chain[c[0]] && on_chain[c[1]] && on_chain[c[2]]) ++all_held;
     }
-    if (4 * all_held > total)
+    if (4 * all_held > total && nv > 2 * template_vertices)
       throw Algorithm_failure("deform", "the curves are denser than the template can hold: " + std::to_string(all_held) +
                                             " of the " + std::to_string(total) +
                                             " faces of the embedding have all their corners on curves (" +
