@@ -208,8 +208,8 @@ std::vector<Point_3> untangle_faces(const std::vector<Point_3>& positions,
   param.epsilon_rel = 1e-8;
   param.max_iterations = 100;
   Eigen::VectorXd grad(variables);
-  // Bounded work: about 2e7 face evaluations in all (a few seconds), whatever the patch.
-  const std::size_t max_evaluations = std::max<std::size_t>(50, 20000000 / patch.corners.size());
+  // Bounded work: about 8e6 face evaluations in all (a second or two), whatever the patch.
+  const std::size_t max_evaluations = std::max<std::size_t>(50, 8000000 / patch.corners.size());
   std::size_t evaluations = 0;
   // Where no placement of the free vertices untangles the patch (its held vertices are tangled
   // themselves), ε stops falling: give up after a few decreases that invert no fewer faces.

@@ -29,7 +29,7 @@ namespace meshfit {
 /// predicates decide).
 struct Untangle_report {
   std::size_t free_vertices = 0, faces = 0;
-  std::size_t outer_iterations = 0;  ///< decreases of ε (the work is bounded: about 2e7 face evaluations)
+  std::size_t outer_iterations = 0;  ///< decreases of ε (the work is bounded: about 8e6 face evaluations)
   std::size_t inverted_before = 0, inverted_after = 0;
 };
 
