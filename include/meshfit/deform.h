@@ -66,7 +66,8 @@ enum class Curve_density {
 /// How the fine level brings the coarse-deformed template onto the curves.
 enum class Fine_level {
   /// Embed the curves in the coarse-deformed surface, then move the embedded vertices onto the
-  /// curves with a thin-plate displacement of the whole mesh (deform_fine_on_surface). Default.
+  /// curves with a thin-plate displacement of the whole mesh, and untangle what turned over with
+  /// a foldover-free energy (untangle_faces) (deform_fine_on_surface). Default.
   surface,
   /// The thesis's: nearest-vertex pairs, an RBF through them, local subdivision where faces
   /// flip (deform_fine).
@@ -1272,7 +1273,7 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
   for (std::size_t i = 0; i < n; ++i) after[i] = constrained[i] ? goal[i] : before[i] + d[i];
   report.fine_pairs = static_cast<std::size_t>(std::count(constrained.begin(), constrained.end(), true));
 
-  // 4. Untangling: relax the free vertices around faces that turned over, in growing rings.
+  // 4. Untangling: move the free vertices around faces that turned over or fold (4a, 4b below).
   internal::report_progress(progress, "deform", "fine: relaxing where faces turned over", 3, 4);
   // Bad faces: those turned over against step 2's surface, and those beside an edge that folds
   // now and did not fold there. "Turned over" is judged against the coarse surface's vertex
