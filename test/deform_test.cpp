@@ -9,6 +9,7 @@
 
 #include "test_helpers.h"
 
+#include <algorithm>
 #include <set>
 
 using Mesh = CGAL::Surface_mesh<meshfit::Point_3>;
@@ -343,4 +344,97 @@ TEST_CASE("deform: both fine levels on the same input, the thesis's kept as an o
     CHECK(embedded_exactly(e.tm, e.network, r) == e.network.number_of_vertices());
     CHECK(inward_faces(e.tm) == 0);
   }
+}
+
+namespace {
+
+// The example's network with every segment cut into `pieces` equal parts, and its pairs.
+Example densified_example(int pieces) {
+  Example e = load_example();
+  std::vector<meshfit::Curve_network::Polyline> lines;
+  for (const auto& pl : e.network.polylines()) {
+    lines.emplace_back(1, e.network.point(pl.front()));
+    for (std::size_t i = 0; i + 1 < pl.size(); ++i) {
+      const meshfit::Point_3 a = e.network.point(pl[i]), b = e.network.point(pl[i + 1]);
+      for (int k = 1; k < pieces; ++k) lines.back().push_back(a + (b - a) * (double(k) / pieces));
+      lines.back().push_back(b);
+    }
+  }
+  meshfit::Curve_network dense(lines);
+  for (auto& c : e.pairs) c.network_vertex = *dense.find_vertex(e.network.point(c.network_vertex));
+  e.network = std::move(dense);
+  return e;
+}
+
+}  // namespace
+
+TEST_CASE("deform: curves 3x denser than the example's: edges between side-by-side curves are split, nothing folds",
+          "[deform][example][surface][dense]") {
+  Example e = densified_example(3);
+  REQUIRE(e.network.number_of_vertices() > 600);
+  const auto r = meshfit::deform_template(e.tm, e.network, e.pairs);
+  CHECK(r.edges_split_between_curves > 0);
+  CHECK(r.remaining_flips == 0);
+  CHECK(r.segments_not_embedded.empty());
+  CHECK(embedded_exactly(e.tm, e.network, r) == e.network.number_of_vertices());
+  CHECK(segments_as_edge_paths(e.tm, e.network, r.mesh_vertex_of_network_vertex) == e.network.number_of_segments());
+  CHECK(inward_faces(e.tm) == 0);
+  CHECK(folded_edges(e.tm) == 0);
+  // Every face keeps a corner off the curves: none has its three corners on segments unless its
+  // three sides run along segments (a triangle the network bounds). Judged geometrically.
+  std::vector<std::vector<std::size_t>> segments_at(e.tm.number_of_vertices());
+  for (auto v : e.tm.vertices())
+    for (std::size_t k = 0; k < e.network.number_of_segments(); ++k) {
+      const auto& s = e.network.segments()[k];
+      if (CGAL::squared_distance(meshfit::Segment_3(e.network.point(s[0]), e.network.point(s[1])), e.tm.point(v)) < 1e-20)
+        segments_at[v.idx()].push_back(k);
+    }
+  auto along = [&](std::size_t a, std::size_t b) {
+    for (std::size_t k : segments_at[a])
+      if (std::find(segments_at[b].begin(), segments_at[b].end(), k) != segments_at[b].end()) return true;
+    return false;
+  };
+  std::size_t pinned = 0;
+  for (auto f : e.tm.faces()) {
+    std::vector<std::size_t> c;
+    for (auto v : CGAL::vertices_around_face(e.tm.halfedge(f), e.tm)) c.push_back(v.idx());
+    bool all_on = true, all_sides = true;
+    for (int k = 0; k < 3; ++k) {
+      all_on = all_on && !segments_at[c[k]].empty();
+      all_sides = all_sides && along(c[k], c[(k + 1) % 3]);
+    }
+    pinned += all_on && !all_sides;
+  }
+  CHECK(pinned == 0);
+}
+
+TEST_CASE("deform: curves far denser than the template are refused at once, saying what to change",
+          "[deform][example][surface][dense]") {
+  Example e = densified_example(25);  // 5 490 network vertices on the 2 562-vertex example sphere
+  try {
+    meshfit::deform_template(e.tm, e.network, e.pairs);
+    FAIL("a network twice the template's size with no room between its curves was accepted");
+  } catch (const meshfit::Algorithm_failure& f) {
+    const std::string m = f.what();
+    CHECK_THAT(m, Catch::Contains("the curves are denser than the template can hold"));
+    CHECK_THAT(m, Catch::Contains("5490 network vertices on a template of 2562"));
+    CHECK_THAT(m, Catch::Contains("use a finer template (subdivide it), or sparser curves"));
+  }
+}
+
+TEST_CASE("deform: the message for faces left turned over names what each fine level tried", "[deform][message]") {
+  meshfit::Deformation_report r;
+  r.remaining_flips = 3;
+  r.flip_rounds = 11;
+  r.untangle_rounds = 7;
+  r.edges_split_between_curves = 313;
+  r.fine_level = meshfit::Fine_level::thesis;
+  CHECK(meshfit::remaining_flips_message(r) ==
+        "3 faces still flip after 11 rounds of flip prevention (raise --max-rounds, or give more correspondences "
+        "so that the coarse level brings the template closer to the curves)");
+  r.fine_level = meshfit::Fine_level::surface;
+  const std::string m = meshfit::remaining_flips_message(r);
+  CHECK_THAT(m, Catch::StartsWith("3 faces still turn over after 7 rounds of untangling"));
+  CHECK_THAT(m, Catch::Contains("313 edges had to be split between curves"));
+  CHECK_THAT(m, Catch::Contains("use a finer template (subdivide it)"));
 }

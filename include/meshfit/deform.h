@@ -144,6 +144,25 @@ inline std::string orientation_reversal_message(double affine_determinant) {
   return os.str();
 }
 
+/// What to tell the user when faces still turn over after the fine level (report.remaining_flips
+/// > 0): what was tried, and what to change, for the fine level that ran.
+inline std::string remaining_flips_message(const Deformation_report& r) {
+  std::ostringstream os;
+  if (r.fine_level == Fine_level::thesis) {
+    os << r.remaining_flips << " faces still flip after " << r.flip_rounds
+       << " rounds of flip prevention (raise --max-rounds, or give more correspondences so that the coarse level "
+          "brings the template closer to the curves)";
+    return os.str();
+  }
+  os << r.remaining_flips << " faces still turn over after " << r.untangle_rounds
+     << " rounds of untangling, where the curves leave the template too little room";
+  if (r.edges_split_between_curves > 0)
+    os << " (" << r.edges_split_between_curves << " edges had to be split between curves running side by side)";
+  os << ": use a finer template (subdivide it) or sparser curves there, or give more correspondences so that the "
+        "coarse level brings the template closer to the curves";
+  return os.str();
+}
+
 namespace internal {
 
 template <typename TriangleMesh, typename VPM>

@@ -690,9 +690,7 @@ int run_deform(const Command_line& cl) {
               " network vertices could not be given a mesh vertex of their own (their nearest "
               "surface points are taken by nearer ones); --curve-density drop accepts that";
   else if (failure.empty() && r.remaining_flips > 0)
-    failure = std::to_string(r.remaining_flips) + " faces still flip after " + std::to_string(r.flip_rounds) +
-              " rounds of flip prevention (raise --max-rounds, or give more correspondences so that the "
-              "coarse level brings the template closer to the curves)";
+    failure = meshfit::remaining_flips_message(r);
   const meshfit::Mesh_data out = meshfit::to_mesh_data(tm);
 
   if (!report_path.empty()) {
