@@ -22,7 +22,7 @@ if [ ${#need[@]} -gt 0 ]; then
   sudo_cmd=(); [ "$(id -u)" -ne 0 ] && sudo_cmd=(sudo)
   DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${need[@]}" >/dev/null
 fi
-"$root/scripts/build.sh" "$build" >/dev/null
+"$root/scripts/build.sh" "$build" -DMESHFIT_BUILD_BENCHMARKS=ON >/dev/null
 
 py=/usr/bin/python3   # Debian's python, where python3-scipy lives
 data="$(mktemp -d)"
@@ -107,6 +107,10 @@ for spec in "100 10 2" "316 10 1"; do
     echo "| $(field n) | $(field method) | $(field iterations) | $us | $(awk -v a="$tr" -v b="$us" 'BEGIN { printf "%.1fx", a / b }') | $(field volume_change_pct) | $(field min_angle) | $(field angle_sd) |"
   done
 done
+
+echo
+echo "Scale (issue 12): icosphere templates under a random rotation onto the bumpy blob, meshfit beside its thesis fine level and SciPy"
+"$root/bench/scale/run.sh" --no-build --build "$build" || true
 
 echo
 echo "Stress battery (issue 11): every case with both fine levels, scored by bench/battery/score_fit"

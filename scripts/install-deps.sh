@@ -7,6 +7,8 @@ packages=(g++ cmake make libcgal-dev libeigen3-dev libboost-dev libgmp-dev libmp
           libcgal-demo libopenblas-dev liblapacke-dev
           # the fine level's untangling: L-BFGS (header-only, used inside the compiled library)
           liblbfgspp-dev
+          # the fine level's thin-plate displacement: CHOLMOD's supernodal sparse Cholesky
+          libsuitesparse-dev
           # the command line (CLI11) and its report (nlohmann-json)
           libcli11-dev nlohmann-json3-dev
           # round-trip tests of the outputs in another reader

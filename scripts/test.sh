@@ -12,7 +12,7 @@ jobs="$(nproc)"
 
 if [ "${MESHFIT_SKIP_SANITIZE:-0}" != 1 ]; then
   "$root/scripts/build.sh" "$root/build-asan" -DMESHFIT_SANITIZE=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-    -DMESHFIT_BUILD_EXAMPLES=OFF -DMESHFIT_BUILD_BENCHMARKS=OFF
+    -DMESHFIT_BUILD_EXAMPLES=OFF -DMESHFIT_BUILD_BATTERY=OFF
   # The tests of other programs reading meshfit's outputs (a browser, f3d, meshio) and of the
   # installed package run in the release build only: under the sanitizers they would check the
   # same meshfit code again (the command-line tests cover it) at several times the cost.

@@ -3,13 +3,35 @@
 
 #include "fp_traps.h"
 
-#include <Eigen/SparseCholesky>
+#include <Eigen/CholmodSupport>
 #include <Eigen/SparseCore>
 
 #include <cmath>
 #include <string>
 
+// OpenBLAS (the BLAS CMake links, BLA_VENDOR OpenBLAS) under CHOLMOD's supernodal factorisation.
+extern "C" int openblas_get_num_threads(void);
+extern "C" void openblas_set_num_threads(int);
+
 namespace meshfit {
+
+namespace {
+
+// CHOLMOD's supernodes are small on a surface mesh: threaded BLAS calls on them cost more than they
+// save (the 164 000-vertex system of a 327 680-face template: 37 s on OpenBLAS's threads beside
+// other work, 5 s on one), and one thread makes the result independent of the machine's cores.
+class One_blas_thread {
+ public:
+  One_blas_thread() : m_threads(openblas_get_num_threads()) { openblas_set_num_threads(1); }
+  ~One_blas_thread() { openblas_set_num_threads(m_threads); }
+  One_blas_thread(const One_blas_thread&) = delete;
+  One_blas_thread& operator=(const One_blas_thread&) = delete;
+
+ private:
+  int m_threads;
+};
+
+}  // namespace
 
 std::vector<Vector_3> interpolate_displacements(const Vertex_adjacency& adj, const std::vector<bool>& constrained,
                                                 const std::vector<Vector_3>& given, int order,
@@ -102,7 +124,10 @@ std::vector<Vector_3> interpolate_displacements(const Vertex_adjacency& adj, con
     }
   Sparse A(nf, nf);
   A.setFromTriplets(qf.begin(), qf.end());
-  Eigen::SimplicialLDLT<Sparse> solver;
+  // CHOLMOD's supernodal factorisation (its own fill-reducing ordering): the system is symmetric
+  // positive definite (every part of the mesh has a held vertex).
+  const One_blas_thread one_thread;
+  Eigen::CholmodSupernodalLLT<Sparse, Eigen::Lower> solver;
   solver.compute(A);
   if (solver.info() != Eigen::Success)
     throw Numerical_error("displacement: the sparse Cholesky factorisation of the " + std::to_string(nf) + "×" +

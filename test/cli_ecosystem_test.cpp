@@ -12,8 +12,6 @@
 
 #include <nlohmann/json.hpp>
 
-#include <sys/wait.h>
-
 #include <chrono>
 #include <fstream>
 #include <set>
@@ -22,25 +20,6 @@ using namespace meshfit_test;
 using Json = nlohmann::json;
 
 namespace {
-
-struct Run_result {
-  int status = -1;
-  std::string out, err;
-};
-
-Run_result run(const Temp_dir& dir, const std::string& args) {
-  const std::string out = dir.file("stdout.txt"), err = dir.file("stderr.txt");
-  const std::string cmd = std::string("cd '") + dir.file("") + "' && '" + MESHFIT_CLI + "' " + args + " > '" + out +
-                          "' 2> '" + err + "' < /dev/null";
-  const int raw = std::system(cmd.c_str());
-  Run_result r;
-  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : 128 + WTERMSIG(raw);
-  r.out = read_text(out);
-  r.err = read_text(err);
-  return r;
-}
-
-std::string q(const std::string& s) { return "'" + s + "'"; }
 
 const std::string data = MESHFIT_EXAMPLE_DATA_DIR;
 const std::string example_inputs = " --template " + q(data + "/template.off") + " --curves " +

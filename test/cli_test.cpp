@@ -5,8 +5,6 @@
 
 #include <meshfit/curve_network.h>
 
-#include <sys/wait.h>
-
 #include <nlohmann/json.hpp>
 
 #include <chrono>
@@ -15,24 +13,6 @@
 using namespace meshfit_test;
 
 namespace {
-
-struct Run_result {
-  int status = -1;
-  std::string out, err;
-};
-
-Run_result run(const Temp_dir& dir, const std::string& args) {
-  const std::string out = dir.file("stdout.txt"), err = dir.file("stderr.txt");
-  const std::string cmd = std::string("'") + MESHFIT_CLI + "' " + args + " > '" + out + "' 2> '" + err + "' < /dev/null";
-  const int raw = std::system(cmd.c_str());
-  Run_result r;
-  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : 128 + WTERMSIG(raw);
-  r.out = read_text(out);
-  r.err = read_text(err);
-  return r;
-}
-
-std::string q(const std::string& s) { return "'" + s + "'"; }
 
 // The --template, --curves and --correspondences options of a run where the malformed case's
 // file `bad` replaces the input of its kind and the others are valid.

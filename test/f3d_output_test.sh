@@ -9,16 +9,8 @@
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 meshfit="$1" out="$2"
-python=/usr/bin/python3
-[ -x "$python" ] || python="$(command -v python3 || true)"
-for tool in f3d "$python"; do
-  command -v "$tool" >/dev/null 2>&1 || { echo "SKIPPED: f3d_output: ${tool:-python3} not found (scripts/install-deps.sh installs it)"; exit 77; }
-done
-run=()
-if [ -z "${DISPLAY:-}" ]; then
-  command -v xvfb-run >/dev/null || { echo "SKIPPED: f3d_output: no DISPLAY and no xvfb-run (scripts/install-deps.sh installs xvfb)"; exit 77; }
-  run=(xvfb-run -a -s "-screen 0 864x664x24")
-fi
+source "$root/test/picture_test_setup.sh"
+picture_test_setup f3d_output
 rm -rf "$out"
 mkdir -p "$out"
 data="$root/examples/data"
@@ -26,7 +18,7 @@ pictures=()
 for ext in vtp vtk; do
   "$meshfit" fit --quiet --template "$data/template.off" --curves "$data/curves.polylines.txt" \
     --correspondences "$data/pairs.txt" --output "$out/fit.$ext"
-  "${run[@]}" f3d --dry-run --quiet --output="$out/fit-$ext.png" --resolution=800,600 \
+  "${offscreen[@]}" f3d --dry-run --quiet --output="$out/fit-$ext.png" --resolution=800,600 \
     --scalars=region --cells --line-width=4 --bg-color=1,1,1 \
     --colormap=0,0,0,0,0.08,1,0,0,0.3,1,1,0,0.5,0,1,0,0.7,0,1,1,0.85,0,0,1,1,1,0,1 "$out/fit.$ext"
   pictures+=("$out/fit-$ext.png")

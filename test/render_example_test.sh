@@ -6,14 +6,8 @@
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 meshfit="$1" out="$2"
-python=/usr/bin/python3
-[ -x "$python" ] || python="$(command -v python3 || true)"
-for tool in f3d "$python"; do
-  command -v "$tool" >/dev/null 2>&1 || { echo "render_example: ${tool:-python3} not found: skipped (scripts/install-deps.sh installs it)"; exit 77; }
-done
-if [ -z "${DISPLAY:-}" ] && ! command -v xvfb-run >/dev/null; then
-  echo "render_example: no DISPLAY and no xvfb-run: skipped (scripts/install-deps.sh installs xvfb)"; exit 77
-fi
+source "$root/test/picture_test_setup.sh"
+picture_test_setup render_example
 rm -rf "$out"
 "$root/scripts/render.sh" --example --meshfit "$meshfit" --out "$out" --resolution 800,600
 "$python" "$root/test/check_pictures.py" --size 800,600 --regions partitioned.png,smoothed.png \

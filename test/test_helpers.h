@@ -7,7 +7,10 @@
 
 #include <catch2/catch.hpp>
 
+#include <sys/wait.h>
+
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -45,6 +48,30 @@ inline std::string read_text(const std::string& path) {
 
 /// Runs `f`, which must throw meshfit::Invalid_input whose location has `line` (0: no line) and
 /// whose message contains `fragment`.
+/// What the meshfit command did: its exit status (128 + the signal when killed), stdout, stderr.
+struct Run_result {
+  int status = -1;
+  std::string out, err;
+};
+
+/// `s` in single quotes, for a shell command line.
+inline std::string q(const std::string& s) { return "'" + s + "'"; }
+
+#ifdef MESHFIT_CLI
+/// Runs `meshfit <args>` from the shell in `dir` (its working directory), stdin from /dev/null.
+inline Run_result run(const Temp_dir& dir, const std::string& args) {
+  const std::string out = dir.file("stdout.txt"), err = dir.file("stderr.txt");
+  const std::string cmd =
+      "cd " + q(dir.file("")) + " && " + q(MESHFIT_CLI) + " " + args + " > " + q(out) + " 2> " + q(err) + " < /dev/null";
+  const int raw = std::system(cmd.c_str());
+  Run_result r;
+  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : 128 + WTERMSIG(raw);
+  r.out = read_text(out);
+  r.err = read_text(err);
+  return r;
+}
+#endif
+
 inline void require_invalid(const std::function<void()>& f, std::size_t line,
                             const std::string& fragment) {
   try {

@@ -1296,12 +1296,66 @@ void write_selftest(const fs::path& out) {
 
 }  // namespace
 
+// Scale cases (issue 12): icosphere templates of 81 920, 327 680 and 1 310 720 faces onto the bumpy
+// blob with a latitude/longitude network of about 2 000, 6 000 and 20 000 vertices, the template
+// under a random rotation. Written by `make_battery --scale OUTDIR`.
+void scale_family(Battery& bat) {
+  const std::vector<std::pair<int, std::size_t>> sizes = {{6, 2000}, {7, 6000}, {8, 20000}};
+  const auto circles = latlong_circles();
+  for (auto [level, target] : sizes) {
+    Case c;
+    c.tmpl = icosphere(level);
+    c.name = "scale-ico" + std::to_string(c.tmpl.number_of_faces()) + "-bumpy-latlong" + std::to_string(target);
+    c.family = "scale: icosphere onto the bumpy blob";
+    c.truth = radial_truth(bumpy_r);
+    // The spacing that gives about `target` network vertices: count at a first spacing, rescale.
+    auto vertices_at = [&](double spacing) {
+      Network_counts nc;
+      genus0_regions(circle_network(circles, bumpy_r, spacing).curves, {}, 0, &nc);
+      return static_cast<double>(nc.V);
+    };
+    const double first = 0.05, spacing = first * vertices_at(first) / static_cast<double>(target);
+    const Sphere_network net = circle_network(circles, bumpy_r, spacing);
+    c.curves = net.curves;
+    c.pairs = sphere_pairs(c.tmpl, net, bumpy_r, 8);
+    c.expected_regions = genus0_regions(c.curves, {}, 0);
+    c.regions_note = "E - V + 1 + C (closed genus 0)";
+    const Variant rotation = variants_for(c.name, 0).front();
+    for (vd x : c.tmpl.vertices()) c.tmpl.point(x) = rotation.map(c.tmpl.point(x));
+    c.note = "curve spacing " + std::to_string(spacing) + " rad; template " + rotation.what;
+    bat.cases.push_back(std::move(c));
+  }
+}
+
 int main(int argc, char** argv) {
   if (argc < 2 || argc > 3) {
-    std::cerr << "usage: make_battery OUTDIR [CGAL_MESH_DIR]\n";
+    std::cerr << "usage: make_battery OUTDIR [CGAL_MESH_DIR]\n       make_battery --scale OUTDIR\n";
     return 2;
   }
   try {
+    if (std::string(argv[1]) == "--scale") {
+      if (argc != 3) {
+        std::cerr << "usage: make_battery --scale OUTDIR\n";
+        return 2;
+      }
+      const fs::path out = argv[2];
+      fs::create_directories(out);
+      Battery bat;
+      scale_family(bat);
+      std::ofstream list(out / "cases.txt");
+      for (const Case& c : bat.cases) {
+        const fs::path d = out / c.name;
+        fs::create_directories(d);
+        write_off(d / "template.off", c.tmpl);
+        write_off(d / "truth.off", c.truth);
+        write_curves(d / "curves.polylines.txt", c.curves, c.name + ": " + c.note);
+        write_pairs(d / "pairs.txt", c.pairs);
+        write_case_txt(d, c, "", c.name);
+        list << c.name << "\n";
+        std::cerr << "make_battery: " << c.name << "\n";
+      }
+      return 0;
+    }
     const fs::path out = argv[1];
     const std::string meshes = argc == 3 ? argv[2] : "";
     fs::create_directories(out);

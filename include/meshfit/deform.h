@@ -228,9 +228,7 @@ struct Deform_state {
       const auto h = halfedge(e, tm), g = opposite(h, tm);
       if (is_border(h, tm) || is_border(g, tm)) continue;
       if (except && ek < except->size() && (*except)[ek]) continue;
-      const auto a = corners(face(h, tm)), b = corners(face(g, tm));
-      const Triangle_points pa{positions[a[0]], positions[a[1]], positions[a[2]]};
-      if (orientation_in_plane(pa, positions[b[0]], positions[b[1]], positions[b[2]]) == CGAL::POSITIVE) continue;
+      if (!internal::edge_folds(tm, h, [&](vertex_descriptor v) { return positions[get(index, v)]; })) continue;
       if (folded_edges) (*folded_edges)[ek] = true;
       out.push_back(face(h, tm));
       out.push_back(face(g, tm));
@@ -373,27 +371,32 @@ inline std::string name_polylines(const std::vector<std::size_t>& polylines) {
   return os.str();
 }
 
-/// \throws Algorithm_failure naming the polylines that lie entirely far from `tm` (every point
-///         farther than a tenth of its bounding-box diagonal from the surface): no fine level can
-///         bring them onto it, and the thesis level would subdivide without end trying.
+/// \throws Algorithm_failure naming the polylines all of whose points are far from the surface
+///         (`far(v)` for every network vertex v of the polyline): no fine level can bring them
+///         onto it, and the thesis level would subdivide without end trying.
+template <typename IsFar>
+void refuse_far_polylines(const Curve_network& network, const IsFar& far) {
+  std::vector<std::size_t> lines;
+  for (std::size_t k = 0; k < network.polylines().size(); ++k) {
+    const auto& pl = network.polylines()[k];
+    if (std::all_of(pl.begin(), pl.end(), far)) lines.push_back(k);
+  }
+  if (lines.empty()) return;
+  const char* them = lines.size() == 1 ? "it" : "them";
+  throw Algorithm_failure("deform", name_polylines(lines) + " (in file order) lie" + (lines.size() == 1 ? "s" : "") +
+                                        " far from the template after the coarse level (every point farther than "
+                                        "a tenth of its size): give a correspondence on " + them + ", or remove " +
+                                        them);
+}
+
+/// refuse_far_polylines with "far" meaning farther than a tenth of the bounding-box diagonal of `tm`.
 template <typename TriangleMesh, typename VPM>
 void check_polylines_near(const TriangleMesh& tm, const VPM& vpm, const Curve_network& network) {
   using Primitive = CGAL::AABB_face_graph_triangle_primitive<TriangleMesh, VPM>;
   CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>> tree(faces(tm).first, faces(tm).second, tm, vpm);
   tree.accelerate_distance_queries();
   const double far2 = CGAL::square(0.1 * bbox_diagonal(tm, vpm));
-  std::vector<std::size_t> far;
-  for (std::size_t k = 0; k < network.polylines().size(); ++k) {
-    bool all_far = true;
-    for (std::size_t v : network.polylines()[k])
-      all_far = all_far && tree.squared_distance(network.point(v)) > far2;
-    if (all_far) far.push_back(k);
-  }
-  if (!far.empty())
-    throw Algorithm_failure("deform", name_polylines(far) + " (in file order) lie" + (far.size() == 1 ? "s" : "") +
-                                          " far from the template after the coarse level (every point farther than "
-                                          "a tenth of its size): more correspondences on " +
-                                          (far.size() == 1 ? "it" : "them") + " are needed");
+  refuse_far_polylines(network, [&](std::size_t v) { return tree.squared_distance(network.point(v)) > far2; });
 }
 
 /// The surface point of each network vertex, tracked along the curves: from the user's pairs
@@ -402,8 +405,8 @@ void check_polylines_near(const TriangleMesh& tm, const VPM& vpm, const Curve_ne
 /// plus the predecessor's distance to the surface), not the nearest point of the whole surface,
 /// which on thin parts (a trunk beside a body, two sides of an ear) can lie on another part. A
 /// component of the network with no pair starts from its vertex nearest to the surface. Returns
-/// the points; `global_jumps` counts the vertices whose tracked point differs from the nearest
-/// point of the whole surface.
+/// the points; `global_jumps` counts the vertices whose search within reach did not come to the
+/// nearest face of the whole surface.
 template <typename TriangleMesh, typename VPM, typename Tree>
 std::vector<Point_3> tracked_projections(const TriangleMesh& tm, const VPM& vpm, const Tree& tree,
                                          const Curve_network& network, const std::vector<Correspondence>& pairs,
@@ -463,29 +466,41 @@ std::vector<Point_3> tracked_projections(const TriangleMesh& tm, const VPM& vpm,
       const double reach = 2 * std::sqrt(CGAL::squared_distance(network.point(v), p)) +
                            std::sqrt(CGAL::squared_distance(network.point(v), q[v]));
       ++search;
+      // The faces within reach are searched nearest to p first, and the search ends at the nearest
+      // face of the whole surface when it is within reach (the usual case): that face is then the
+      // answer, found after a path's worth of faces rather than the whole disc.
+      const auto nearest = tree.closest_point_and_primitive(p);
+      const double nearest_d = CGAL::squared_distance(nearest.first, p);
       double best = std::numeric_limits<double>::infinity();
       face_descriptor best_face = GT::null_face();
-      std::vector<face_descriptor> stack{face_of[v]};
+      bool reached_nearest = false;
+      using Entry = std::pair<double, face_descriptor>;
+      auto later = [](const Entry& a, const Entry& b) { return a.first > b.first; };
+      std::priority_queue<Entry, std::vector<Entry>, decltype(later)> heap(later);
+      heap.emplace(CGAL::squared_distance(triangle(face_of[v]), p), face_of[v]);
       put(seen, face_of[v], search);
       std::size_t visited = 0;
-      while (!stack.empty() && visited < face_budget) {
-        const face_descriptor f = stack.back();
-        stack.pop_back();
+      while (!heap.empty() && visited < face_budget) {
+        const auto [d, f] = heap.top();
+        heap.pop();
         ++visited;
-        const auto t = triangle(f);
-        const double d = CGAL::squared_distance(t, p);
         if (d < best) best = d, best_face = f;
+        if (f == nearest.second || d <= nearest_d) {
+          reached_nearest = true;
+          break;
+        }
         for (auto h : CGAL::halfedges_around_face(halfedge(f, tm), tm)) {
           const auto g = opposite(h, tm);
           if (is_border(g, tm) || get(seen, face(g, tm)) == search) continue;
           put(seen, face(g, tm), search);
-          if (CGAL::squared_distance(triangle(face(g, tm)), q[v]) <= reach * reach) stack.push_back(face(g, tm));
+          const auto tg = triangle(face(g, tm));
+          if (CGAL::squared_distance(tg, q[v]) <= reach * reach) heap.emplace(CGAL::squared_distance(tg, p), face(g, tm));
         }
       }
       q[w] = Kernel().construct_projected_point_3_object()(triangle(best_face), p);
       face_of[w] = best_face;
       known[w] = true;
-      if (q[w] != tree.closest_point(p)) ++global_jumps;
+      if (!reached_nearest) ++global_jumps;
       queue.push_back(w);
     }
   }
@@ -869,20 +884,7 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
       distance[v] = std::sqrt(CGAL::squared_distance(tree.closest_point(network.point(v)), network.point(v)));
       report.largest_projection_distance = std::max(report.largest_projection_distance, distance[v]);
     }
-    std::vector<std::size_t> far;
-    for (std::size_t k = 0; k < network.polylines().size(); ++k) {
-      bool all_far = true;
-      for (std::size_t v : network.polylines()[k]) all_far = all_far && distance[v] > 0.1 * diag;
-      if (all_far) far.push_back(k);
-    }
-    if (!far.empty()) {
-      std::ostringstream os;
-      os << internal::name_polylines(far) << " (in file order) lie" << (far.size() == 1 ? "s" : "")
-         << " far from the template after the coarse level (every point farther than a tenth of its size): "
-            "give a correspondence on "
-         << (far.size() == 1 ? "it" : "them") << ", or remove " << (far.size() == 1 ? "it" : "them");
-      throw Algorithm_failure("deform", os.str());
-    }
+    internal::refuse_far_polylines(network, [&](std::size_t v) { return distance[v] > 0.1 * diag; });
   }
 
   // Boundary: the vertices of curves that run along the template's border go onto the border (a

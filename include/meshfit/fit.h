@@ -102,10 +102,9 @@ std::pair<std::size_t, std::size_t> folded_and_degenerate(const TriangleMesh& tm
     degenerate += CGAL::collinear(t[0], t[1], t[2]) ? 1 : 0;
   }
   for (auto e : edges(tm)) {
-    const auto h = halfedge(e, tm), g = opposite(h, tm);
-    if (is_border(h, tm) || is_border(g, tm)) continue;
-    const Triangle_points a = corners(h), b = corners(g);
-    if (orientation_in_plane(a, b[0], b[1], b[2]) != CGAL::POSITIVE) ++folded;
+    const auto h = halfedge(e, tm);
+    if (is_border(h, tm) || is_border(opposite(h, tm), tm)) continue;
+    folded += edge_folds(tm, h, [&](auto v) { return point_of<TriangleMesh>(vpm, v); }) ? 1 : 0;
   }
   return {folded, degenerate};
 }

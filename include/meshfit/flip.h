@@ -10,6 +10,8 @@
 
 #include <meshfit/kernel.h>
 
+#include <boost/graph/graph_traits.hpp>
+
 #include <array>
 #include <cmath>
 
@@ -84,6 +86,22 @@ inline CGAL::Sign orientation_in_plane(const Triangle_points& plane, const Point
                                        const Point_3& c) {
   return Plane_orientation(plane)(a, b, c);
 }
+
+namespace internal {
+
+/// Whether the interior edge of `h` folds: its two faces turn more than 90 degrees apart (the face
+/// across the edge is not positively oriented in the plane of the face of `h`; exact). `point(v)`
+/// gives the position of vertex v. The fine level's repair and fit's verification both count this.
+template <typename TriangleMesh, typename PointOf>
+bool edge_folds(const TriangleMesh& tm, typename boost::graph_traits<TriangleMesh>::halfedge_descriptor h,
+                const PointOf& point) {
+  const auto g = opposite(h, tm);
+  const Triangle_points a{point(source(h, tm)), point(target(h, tm)), point(target(next(h, tm), tm))};
+  return orientation_in_plane(a, point(source(g, tm)), point(target(g, tm)), point(target(next(g, tm), tm))) !=
+         CGAL::POSITIVE;
+}
+
+}  // namespace internal
 
 /// The flip counter (thesis §2.3.1.2): for each vertex in turn, does its motion t_i cross the line
 /// of the opposite edge d_i in Π; an odd count means the face flipped. The thesis tests all three
