@@ -11,8 +11,10 @@ jobs="$(nproc)"
 (cd "$root/build" && ctest --output-on-failure --parallel "$jobs")
 
 if [ "${MESHFIT_SKIP_SANITIZE:-0}" != 1 ]; then
+  # -O1 and line tables only (-g1): the sanitizers' usual level, and compiles 2.5 times faster than
+  # RelWithDebInfo's -O2 -g (fit_test.cpp: 158 s against 400 s, 2.0 against 3.0 GB).
   "$root/scripts/build.sh" "$root/build-asan" -DMESHFIT_SANITIZE=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-    -DMESHFIT_BUILD_EXAMPLES=OFF -DMESHFIT_BUILD_BATTERY=OFF
+    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DMESHFIT_BUILD_EXAMPLES=OFF -DMESHFIT_BUILD_BATTERY=OFF
   # The tests of other programs reading meshfit's outputs (a browser, f3d, meshio) and of the
   # installed package run in the release build only: under the sanitizers they would check the
   # same meshfit code again (the command-line tests cover it) at several times the cost.
