@@ -1296,6 +1296,16 @@ void write_selftest(const fs::path& out) {
 
 }  // namespace
 
+// A base case's files in `d`: template, truth, curves, pairs and case.txt.
+void write_case(const fs::path& d, const Case& c) {
+  fs::create_directories(d);
+  write_off(d / "template.off", c.tmpl);
+  write_off(d / "truth.off", c.truth);
+  write_curves(d / "curves.polylines.txt", c.curves, c.name + ": " + c.note);
+  write_pairs(d / "pairs.txt", c.pairs);
+  write_case_txt(d, c, "", c.name);
+}
+
 // Scale cases (issue 12): icosphere templates of 81 920, 327 680 and 1 310 720 faces onto the bumpy
 // blob with a latitude/longitude network of about 2 000, 6 000 and 20 000 vertices, the template
 // under a random rotation. Written by `make_battery --scale OUTDIR`.
@@ -1344,13 +1354,7 @@ int main(int argc, char** argv) {
       scale_family(bat);
       std::ofstream list(out / "cases.txt");
       for (const Case& c : bat.cases) {
-        const fs::path d = out / c.name;
-        fs::create_directories(d);
-        write_off(d / "template.off", c.tmpl);
-        write_off(d / "truth.off", c.truth);
-        write_curves(d / "curves.polylines.txt", c.curves, c.name + ": " + c.note);
-        write_pairs(d / "pairs.txt", c.pairs);
-        write_case_txt(d, c, "", c.name);
+        write_case(out / c.name, c);
         list << c.name << "\n";
         std::cerr << "make_battery: " << c.name << "\n";
       }
@@ -1373,11 +1377,7 @@ int main(int argc, char** argv) {
       const Case& c = bat.cases[i];
       const fs::path d = out / c.name;
       fs::create_directories(d);
-      write_off(d / "template.off", c.tmpl);
-      write_off(d / "truth.off", c.truth);
-      write_curves(d / "curves.polylines.txt", c.curves, c.name + ": " + c.note);
-      write_pairs(d / "pairs.txt", c.pairs);
-      write_case_txt(d, c, "", c.name);
+      write_case(d, c);
       list << c.name << " " << (c.quick ? 1 : 0) << " " << c.name << " none\n";
       for (const Variant& v : variants_for(c.name, i)) {
         const std::string vn = c.name + "@" + v.suffix;

@@ -128,8 +128,10 @@ std::optional<std::size_t> expected_regions(const TriangleMesh& tm, const Curve_
 
 /// Fits `tm` (the template) to `network` through the user's `pairs` (template vertex index →
 /// network vertex) and partitions it by the curves:
-///   1. deform_template (coarse RBF through the pairs, fine RBF through closest-point pairs, flip
-///      prevention; thesis ch. 2);
+///   1. deform_template (coarse RBF through the pairs, then the fine level: by default the curves
+///      embedded in the coarse surface, moved into place by a thin-plate displacement and
+///      untangled; with `fine_level(Fine_level::thesis)` the thesis's fine RBF through
+///      closest-point pairs and flip prevention; thesis ch. 2);
 ///   2. partition_mesh (every segment a chain of mesh edges, regions labelled; ch. 3);
 ///   3. smooth_mesh with the curve edges and their vertices held (ch. 4);
 ///   4. verification (Fit_verification): network vertices are mesh vertices, segments are edge
