@@ -154,12 +154,11 @@ inline std::string remaining_flips_message(const Deformation_report& r) {
           "brings the template closer to the curves)";
     return os.str();
   }
-  os << r.remaining_flips << " faces still turn over after " << r.untangle_rounds
-     << " rounds of untangling, where the curves leave the template too little room";
+  os << r.remaining_flips << " faces still turn over after " << r.untangle_rounds << " rounds of untangling";
   if (r.edges_split_between_curves > 0)
-    os << " (" << r.edges_split_between_curves << " edges had to be split between curves running side by side)";
-  os << ": use a finer template (subdivide it) or sparser curves there, or give more correspondences so that the "
-        "coarse level brings the template closer to the curves";
+    os << " (" << r.edges_split_between_curves << " edges were split between curves running side by side)";
+  os << ": where curves run close together, use a finer template (subdivide it) or sparser curves; elsewhere, "
+        "give more correspondences so that the coarse level brings the template closer to the curves";
   return os.str();
 }
 
