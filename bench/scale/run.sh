@@ -29,7 +29,7 @@ meshfit="$build/meshfit"
 [ -d "$work/cases" ] || "$build/bench/battery/make_battery" --scale "$work/cases" 2>/dev/null
 
 field() { sed -n "s/^$2 //p" "$1/case.txt"; }
-# run LABEL CASE_DIR ARGS...: sets seconds, mb, verdict, and the per-stage times of the report.
+# run_fit CASE_DIR [meshfit fit options]: sets seconds, mb, stages (the report's per-stage times), verdict.
 run_fit() {
   local dir="$1"; shift
   local out="$work/out.off" rep="$work/report.json" status=0
