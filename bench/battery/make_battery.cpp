@@ -1294,8 +1294,6 @@ void write_selftest(const fs::path& out) {
   write_off(d / "swapped.off", swapped);
 }
 
-}  // namespace
-
 // A base case's files in `d`: template, truth, curves, pairs and case.txt.
 void write_case(const fs::path& d, const Case& c) {
   fs::create_directories(d);
@@ -1337,6 +1335,8 @@ void scale_family(Battery& bat) {
   }
 }
 
+}  // namespace
+
 int main(int argc, char** argv) {
   if (argc < 2 || argc > 3) {
     std::cerr << "usage: make_battery OUTDIR [CGAL_MESH_DIR]\n       make_battery --scale OUTDIR\n";
@@ -1375,9 +1375,7 @@ int main(int argc, char** argv) {
     list << "# name quick base variant\n";
     for (size_t i = 0; i < bat.cases.size(); ++i) {
       const Case& c = bat.cases[i];
-      const fs::path d = out / c.name;
-      fs::create_directories(d);
-      write_case(d, c);
+      write_case(out / c.name, c);
       list << c.name << " " << (c.quick ? 1 : 0) << " " << c.name << " none\n";
       for (const Variant& v : variants_for(c.name, i)) {
         const std::string vn = c.name + "@" + v.suffix;
