@@ -48,6 +48,7 @@ struct Topology {
   std::vector<std::array<std::uint32_t, 2>> edge_vertices;
   std::vector<std::array<std::uint32_t, 3>> face_edge;  // edge opposite corner k
   std::vector<std::array<std::uint32_t, 3>> face_adj;   // face across that edge; no_face at boundary/curve
+  std::vector<std::array<std::uint32_t, 3>> face_nbr;   // face across that edge, curves too; no_face at boundary
   std::vector<std::uint32_t> nbr_start, nbr, nbr_edge;  // vertex → neighbour, edge
   std::vector<std::uint32_t> vf_start, vf;              // vertex → incident faces
   double mean_edge = 0;
@@ -73,6 +74,7 @@ struct Topology {
     std::sort(constrained.begin(), constrained.end());
     face_edge.assign(nf, {0, 0, 0});
     face_adj.assign(nf, {no_face, no_face, no_face});
+    face_nbr.assign(nf, {no_face, no_face, no_face});
     constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
     auto twin_of = [&](std::uint32_t a, std::uint32_t b) {
       std::uint32_t twin = none, count = 0;
@@ -93,6 +95,8 @@ struct Topology {
         face_edge[h / 3][h % 3] = e;
         if (twin == none) continue;
         face_edge[twin / 3][twin % 3] = e;
+        face_nbr[h / 3][h % 3] = twin / 3;
+        face_nbr[twin / 3][twin % 3] = h / 3;
         // Faces are adjacent across a manifold edge that is not a curve: the projection walks
         // stay inside a region and never leave the surface through its rim.
         if (!constrained.empty() &&
@@ -438,9 +442,10 @@ void run_flow(Smoothing_arrays& m, const Flow_settings& s, Smoothing_report& rep
       // Nor may it fold over a neighbour: two faces sharing an edge that turn more than 90 degrees
       // apart, when they did not at the call (each face alone can turn less than 90 degrees and
       // the pair still fold; seen on CGAL's elephant). Filtered, then exact in the face's plane,
-      // the test fit_template_to_curves verifies with.
+      // the test fit_template_to_curves verifies with. Across curve edges too: the faces on the two
+      // sides of a curve move independently.
       for (int k = 0; k < 3; ++k) {
-        const std::uint32_t g = t.face_adj[f][std::size_t(k)];
+        const std::uint32_t g = t.face_nbr[f][std::size_t(k)];
         if (g == no_face) continue;
         const auto& gt = m.triangles[g];
         const V3 ga = load(next.data(), gt[0]), gb = load(next.data(), gt[1]), gc = load(next.data(), gt[2]);
