@@ -2,6 +2,7 @@
 
 #include <meshfit/coordinate_range.h>
 #include <meshfit/internal/format_number.h>
+#include <meshfit/internal/resample_network.h>
 
 #include "polygon_soup.h"
 #include "text_parser.h"
@@ -336,4 +337,75 @@ void write_curve_network(const std::string& path, const Curve_network& network) 
   });
 }
 
+}  // namespace meshfit
+
+namespace meshfit {
+namespace internal {
+
+Resampled_network resample_long_segments(const Curve_network& network, double spacing, const std::vector<bool>& whole) {
+  Resampled_network r;
+  const std::size_t nv = network.number_of_vertices();
+  const auto& segments = network.segments();
+  // The points added on each segment, from its lower-numbered end, computed once: a segment
+  // written twice (in either direction) gets the same points.
+  std::map<std::pair<std::size_t, std::size_t>, std::size_t> index;
+  std::vector<std::vector<Point_3>> inner(segments.size());
+  for (std::size_t k = 0; k < segments.size(); ++k) {
+    const std::size_t a = std::min(segments[k][0], segments[k][1]), b = std::max(segments[k][0], segments[k][1]);
+    index[{a, b}] = k;
+    const Point_3 &pa = network.point(a), &pb = network.point(b);
+    const double length = std::sqrt(CGAL::squared_distance(pa, pb));
+    if (!(spacing > 0) || !(length > 2 * spacing) || (k < whole.size() && whole[k])) continue;
+    const double pieces = std::ceil(length / spacing);
+    for (double j = 1; j < pieces; ++j) inner[k].push_back(pa + (j / pieces) * (pb - pa));
+    r.added += inner[k].size();
+  }
+  if (r.added == 0) {
+    r.network = network;
+    r.vertex_of.resize(nv);
+    std::iota(r.vertex_of.begin(), r.vertex_of.end(), std::size_t(0));
+    r.segment_of = r.vertex_of;
+    r.segment_of.resize(segments.size());
+    std::iota(r.segment_of.begin(), r.segment_of.end(), std::size_t(0));
+    return r;
+  }
+  std::vector<Curve_network::Polyline> lines;
+  for (const auto& pl : network.polylines()) {
+    Curve_network::Polyline line{network.point(pl[0])};
+    for (std::size_t i = 0; i + 1 < pl.size(); ++i) {
+      const auto& pts = inner[index.at({std::min(pl[i], pl[i + 1]), std::max(pl[i], pl[i + 1])})];
+      if (pl[i] < pl[i + 1]) line.insert(line.end(), pts.begin(), pts.end());
+      else line.insert(line.end(), pts.rbegin(), pts.rend());
+      line.push_back(network.point(pl[i + 1]));
+    }
+    lines.push_back(std::move(line));
+  }
+  Curve_network dense(lines, network.relative_tolerance());
+  // Which original vertex or segment each vertex of the dense network comes from.
+  std::vector<std::size_t> origin(dense.number_of_vertices(), SIZE_MAX), on_segment(dense.number_of_vertices(), SIZE_MAX);
+  bool distinct = dense.number_of_vertices() == nv + r.added;
+  r.vertex_of.assign(nv, SIZE_MAX);
+  for (std::size_t v = 0; v < nv && distinct; ++v) {
+    const auto w = dense.find_vertex(network.point(v));
+    distinct = w && origin[*w] == SIZE_MAX;
+    if (distinct) origin[r.vertex_of[v] = *w] = v;
+  }
+  for (std::size_t k = 0; k < segments.size() && distinct; ++k)
+    for (const Point_3& p : inner[k]) {
+      const auto w = dense.find_vertex(p);
+      distinct = w && origin[*w] == SIZE_MAX && on_segment[*w] == SIZE_MAX;
+      if (!distinct) break;
+      on_segment[*w] = k;
+    }
+  if (!distinct) return resample_long_segments(network, 0);  // curves too close to cut: as they are
+  r.network = std::move(dense);
+  for (const auto& s : r.network.segments()) {
+    std::size_t k = on_segment[s[0]] != SIZE_MAX ? on_segment[s[0]] : on_segment[s[1]];
+    if (k == SIZE_MAX) k = index.at({std::min(origin[s[0]], origin[s[1]]), std::max(origin[s[0]], origin[s[1]])});
+    r.segment_of.push_back(k);
+  }
+  return r;
+}
+
+}  // namespace internal
 }  // namespace meshfit

@@ -373,6 +373,22 @@ Example densified_example(int pieces) {
   return e;
 }
 
+// The example's network with only every `keep`-th point of each polyline kept (and the points
+// where curves cross): long straight segments, whose chords run inside the ellipsoid.
+Example sparsified_example(std::size_t keep) {
+  Example e = load_example();
+  std::vector<meshfit::Curve_network::Polyline> lines;
+  for (const auto& pl : e.network.polylines()) {
+    lines.emplace_back();
+    for (std::size_t i = 0; i < pl.size(); ++i)
+      if (i % keep == 0 || i + 1 == pl.size() || e.network.is_feature_point(pl[i])) lines.back().push_back(e.network.point(pl[i]));
+  }
+  meshfit::Curve_network sparse(lines);
+  for (auto& c : e.pairs) c.network_vertex = *sparse.find_vertex(e.network.point(c.network_vertex));
+  e.network = std::move(sparse);
+  return e;
+}
+
 }  // namespace
 
 TEST_CASE("deform: curves 3x denser than the example's: edges between side-by-side curves are split, nothing folds",
@@ -408,6 +424,20 @@ TEST_CASE("deform: curves 3x denser than the example's: edges between side-by-si
     pinned += all_on && !all_sides;
   }
   CHECK(pinned == 0);
+}
+
+TEST_CASE("deform: long straight segments are cut on the way, and embedded as they are, without folds",
+          "[deform][example][surface][sparse]") {
+  Example e = sparsified_example(8);
+  double longest = 0;
+  for (const auto& s : e.network.segments())
+    longest = std::max(longest, std::sqrt(CGAL::squared_distance(e.network.point(s[0]), e.network.point(s[1]))));
+  INFO(e.network.number_of_vertices() << " network vertices, longest segment " << longest);
+  REQUIRE(e.network.number_of_vertices() < 60);
+  const auto r = meshfit::deform_template(e.tm, e.network, e.pairs);
+  CHECK(r.network_points_added > 0);
+  CHECK(r.mesh_vertex_of_network_vertex.size() == e.network.number_of_vertices());
+  check_embedded_without_folds(e, r);
 }
 
 TEST_CASE("deform: curves far denser than the template are refused at once, saying what to change",

@@ -19,6 +19,8 @@
 #include <meshfit/displacement.h>
 #include <meshfit/exceptions.h>
 #include <meshfit/flip.h>
+#include <meshfit/internal/clear_mesh.h>
+#include <meshfit/internal/resample_network.h>
 #include <meshfit/internal/stage_support.h>
 #include <meshfit/internal/triangle_corners.h>
 #include <meshfit/internal/unit_scale.h>
@@ -44,9 +46,10 @@
 #include <chrono>
 #include <deque>
 #include <map>
+#include <memory>
+#include <optional>
 #include <queue>
 #include <set>
-#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -108,8 +111,17 @@ struct Deformation_report {
   /// Network vertices whose surface point, tracked along the curves, is not the nearest point of
   /// the whole coarse surface (internal::tracked_projections).
   std::size_t projections_off_nearest = 0;
+  /// Template vertices given a motion towards the curves before the embedding, and the part of
+  /// that motion applied (0: none; deform_fine_on_surface, step 0).
+  std::size_t approach_constraints = 0;
+  double approach_scale = 0;
+  /// The steps after the approach left defects and ran again without it.
+  bool approach_retried = false;
+  /// Points added on long segments (deform_fine_on_surface, step 0), which become mesh vertices.
+  std::size_t network_points_added = 0;
   std::size_t segments_embedded = 0;        ///< as edge chains of the coarse surface
-  std::size_t segments_by_shortest_path = 0;  ///< of those, where stage 2's insertion could not
+  /// Of those (or of their pieces, when cut), where stage 2's insertion could not.
+  std::size_t segments_by_shortest_path = 0;
   std::vector<std::size_t> segments_not_embedded;  ///< indices into network.segments()
   Partition_report embedding;               ///< the insertion on the coarse surface
   Displacement_report displacement;
@@ -784,39 +796,91 @@ Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
   return report;
 }
 
-/// Fine level, Fine_level::surface, on a template already roughly in place (deform_coarse):
-///   1. every network vertex gets a mesh vertex at (or near) its point on the surface, tracked
-///      along the curves from the user's pairs (internal::tracked_projections); the vertices of
-///      curves running along the border go onto the border (a curve runs along it when its
-///      nearest border points trace at least half its length), the other vertices stay off it;
-///      a face or an edge is split, or a template vertex already there reused; the user's pairs
-///      keep their template vertices;
-///   2. every segment becomes a chain of mesh edges on this surface, where nothing is folded:
-///      the border arc for a segment along the border, stage 2's insertion (partition_mesh on
-///      the network as projected) for the others, and the shortest edge path crossing no chain
-///      where that insertion refuses;
-///   3. the network vertices are moved onto their points, the inner vertices of each chain onto
-///      the segment, and every other vertex by the thin-plate displacement field through those
-///      motions (interpolate_displacements);
-///   4. faces that turn over against the coarse surface's normals, or fold with a neighbour,
-///      are repaired: the free vertices around them are relaxed towards their neighbours' mean
-///      (up to 3 rings, for at most `number_of_iterations` rounds, default 10, the best state
-///      kept), and an edge of a bad face whose corners are all held is flipped when both new
-///      faces are good. `report.remaining_flips` and `report.remaining_folds` are what is left.
-/// Vertices are added only in step 1 (at most one per network vertex), after the existing ones.
-/// Named parameters: `vertex_point_map`, `number_of_iterations`, `progress`.
-/// \throws Invalid_input for pairs out of range, or two pairs that give one network vertex two
-///         template vertices (or the reverse).
-/// \throws Algorithm_failure, naming the polylines (1-based, in file order), before any work
-///         when: the network is not planar and the template has genus 0; a polyline lies entirely
-///         far from the coarse-deformed template (farther than a tenth of its size); segments of
-///         two polylines cross on the surface without a shared vertex (their projections cross
-///         and the segments pass within 1 % of their length of each other); two network vertices
-///         cannot be told apart on the surface (curves denser than the template).
-template <typename TriangleMesh, typename NamedParameters = CGAL::parameters::Default_named_parameters>
-Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network& network,
-                                          const std::vector<Correspondence>& pairs,
-                                          const NamedParameters& np = CGAL::parameters::default_values()) {
+namespace internal {
+/// What approach_curves did.
+struct Approach_result {
+  std::size_t constraints = 0;  ///< template vertices given a displacement
+  double scale = 0;             ///< the part of the displacement applied (0: none)
+};
+
+/// Brings the coarse-deformed surface towards the curves before they are embedded, along the
+/// surface rather than through space: every network vertex's surface point (tracked along the
+/// curves) should move onto the vertex; that motion is given to the template vertex nearest the
+/// surface point, for vertices at least three edges apart (the user's pairs first, then in
+/// network order), and the thin-plate displacement field through them (interpolate_displacements)
+/// moves the rest. The tangential part of each motion is what the embedding then does not have
+/// to make. Halved (up to three times) while the motion would turn a face over or fold an edge;
+/// not applied when it still would.
+template <typename TriangleMesh, typename VPM>
+Approach_result approach_curves(TriangleMesh& tm, const VPM& vpm, const Curve_network& network,
+                                const std::vector<Correspondence>& pairs) {
+  using Primitive = CGAL::AABB_face_graph_triangle_primitive<TriangleMesh, VPM>;
+  using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+  Deform_state<TriangleMesh, VPM> s(tm, vpm);
+  const std::size_t n = s.vertex.size();
+  const std::vector<Point_3> before = s.positions();
+  Vertex_adjacency adjacency;
+  adjacency.offsets.reserve(n + 1);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (auto h : CGAL::halfedges_around_target(halfedge(s.vertex[i], tm), tm))
+      adjacency.neighbours.push_back(get(s.index, source(h, tm)));
+    adjacency.offsets.push_back(adjacency.neighbours.size());
+  }
+  std::vector<bool> constrained(n, false), blocked(n, false);
+  std::vector<Vector_3> given(n, Vector_3(0, 0, 0));
+  Approach_result result;
+  auto take = [&](std::size_t i, const Vector_3& d) {
+    if (blocked[i]) return;
+    constrained[i] = true;
+    given[i] = d;
+    ++result.constraints;
+    std::vector<std::size_t> ring{i};
+    blocked[i] = true;
+    for (int grow = 0; grow < 2; ++grow) {
+      std::vector<std::size_t> next;
+      for (std::size_t u : ring)
+        for (std::size_t k = adjacency.offsets[u]; k < adjacency.offsets[u + 1]; ++k)
+          if (!blocked[adjacency.neighbours[k]]) blocked[adjacency.neighbours[k]] = true, next.push_back(adjacency.neighbours[k]);
+      ring.swap(next);
+    }
+  };
+  for (const Correspondence& c : pairs) take(c.template_vertex, network.point(c.network_vertex) - before[c.template_vertex]);
+  {
+    Tree tree(faces(tm).first, faces(tm).second, tm, vpm);
+    tree.accelerate_distance_queries();
+    std::size_t off = 0;
+    const std::vector<Point_3> surface_point = tracked_projections(tm, vpm, tree, network, pairs, off);
+    for (std::size_t v = 0; v < network.number_of_vertices(); ++v) {
+      const auto f = tree.closest_point_and_primitive(surface_point[v]).second;
+      std::size_t best = 0;
+      double best_d2 = std::numeric_limits<double>::infinity();
+      for (std::size_t c : s.corners(f)) {
+        const double d2 = CGAL::squared_distance(before[c], surface_point[v]);
+        if (d2 < best_d2) best_d2 = d2, best = c;
+      }
+      take(best, network.point(v) - surface_point[v]);
+    }
+  }
+  const std::vector<Vector_3> d = interpolate_displacements(adjacency, constrained, given, 2);
+  std::vector<bool> folded_before;
+  s.folded_faces(before, &folded_before);
+  std::vector<Point_3> after(n);
+  for (double scale = 1; scale > 0.1; scale /= 2) {
+    for (std::size_t i = 0; i < n; ++i) after[i] = before[i] + scale * d[i];
+    std::size_t degenerate = 0;
+    if (!s.flipped_faces(before, after, degenerate).empty() || !s.folded_faces(after, nullptr, &folded_before).empty())
+      continue;
+    s.set_positions(after);
+    result.scale = scale;
+    break;
+  }
+  return result;
+}
+
+/// deform_fine_on_surface on the network as it is (its long segments not cut).
+template <typename TriangleMesh, typename NamedParameters>
+Deformation_report fine_on_surface(TriangleMesh& tm, const Curve_network& network, const std::vector<Correspondence>& pairs,
+                                   const NamedParameters& np) {
   using CGAL::parameters::choose_parameter;
   using CGAL::parameters::get_parameter;
   using GT = boost::graph_traits<TriangleMesh>;
@@ -1546,6 +1610,177 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
   report.vertices = num_vertices(tm);
   report.faces = num_faces(tm);
   return report;
+}
+}  // namespace internal
+
+/// Fine level, Fine_level::surface, on a template already roughly in place (deform_coarse):
+///   0. a segment longer than twice the template's mean edge is cut into pieces of about one edge
+///      (points on the segment), unless both its ends lie near the border (as in step 1): a
+///      long straight segment's ends project onto a curved surface far from where its middle
+///      does, and the pieces follow the surface; the report speaks of the network's own
+///      vertices and segments (`network_points_added` counts the points). Then the surface is
+///      brought towards the curves along itself (internal::approach_curves: the thin-plate field
+///      through the motions that the curves' surface points should make, given to vertices
+///      three edges apart), unless even an eighth of that would turn a face over or fold an edge;
+///   1. every network vertex gets a mesh vertex at (or near) its point on the surface, tracked
+///      along the curves from the user's pairs (internal::tracked_projections); the vertices of
+///      curves running along the border go onto the border (a curve runs along it when its
+///      nearest border points trace at least half its length), the other vertices stay off it;
+///      a face or an edge is split, or a template vertex already there reused; the user's pairs
+///      keep their template vertices;
+///   2. every segment becomes a chain of mesh edges on this surface, where nothing is folded:
+///      the border arc for a segment along the border, stage 2's insertion (partition_mesh on
+///      the network as projected) for the others, and the shortest edge path crossing no chain
+///      where that insertion refuses;
+///   3. the network vertices are moved onto their points, the inner vertices of each chain onto
+///      the segment, and every other vertex by the thin-plate displacement field through those
+///      motions (interpolate_displacements);
+///   4. faces that turn over against the coarse surface's normals, or fold with a neighbour,
+///      are repaired: the free vertices around them are relaxed towards their neighbours' mean
+///      (up to 3 rings, for at most `number_of_iterations` rounds, default 10, the best state
+///      kept), and an edge of a bad face whose corners are all held is flipped when both new
+///      faces are good. `report.remaining_flips` and `report.remaining_folds` are what is left.
+/// Vertices are added only in step 1 (at most one per network vertex and added point), after the
+/// existing ones. When the approach was made and steps 1-4 leave defects (segments not embedded,
+/// faces turned over or folded), they run again from the coarse surface without it, and the
+/// better result is kept (`approach_retried`; the first on a tie). The mesh is then rebuilt in
+/// place, its vertices and faces in their order: the values of the caller's own properties on it
+/// are not kept.
+/// Named parameters: `vertex_point_map`, `number_of_iterations`, `progress`.
+/// \throws Invalid_input for pairs out of range, or two pairs that give one network vertex two
+///         template vertices (or the reverse).
+/// \throws Algorithm_failure, naming the polylines (1-based, in file order), before any work
+///         when: the network is not planar and the template has genus 0; a polyline lies entirely
+///         far from the coarse-deformed template (farther than a tenth of its size); segments of
+///         two polylines cross on the surface without a shared vertex (their projections cross
+///         and the segments pass within 1 % of their length of each other); two network vertices
+///         cannot be told apart on the surface (curves denser than the template).
+template <typename TriangleMesh, typename NamedParameters = CGAL::parameters::Default_named_parameters>
+Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network& network,
+                                          const std::vector<Correspondence>& pairs,
+                                          const NamedParameters& np = CGAL::parameters::default_values()) {
+  auto vpm = internal::vertex_point_map_of(tm, np);
+  internal::check_pairs(pairs, num_vertices(tm), num_faces(tm), network);
+  double length = 0;
+  std::vector<Segment_3> border;
+  for (auto e : edges(tm)) {
+    const Segment_3 edge(get(vpm, source(e, tm)), get(vpm, target(e, tm)));
+    length += std::sqrt(edge.squared_length());
+    if (is_border(e, tm)) border.push_back(edge);
+  }
+  const double h = length / double(num_edges(tm));
+  // Segments with both ends near the border (nearer to it than half an edge more than to the
+  // surface, as in step 1) are not cut: a curve along the border becomes the border arc (step 2),
+  // whatever the length of its segments.
+  std::vector<bool> whole(network.number_of_segments(), false);
+  if (!border.empty()) {
+    using Primitive = CGAL::AABB_face_graph_triangle_primitive<TriangleMesh, decltype(vpm)>;
+    using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+    std::unique_ptr<Tree> tree;
+    std::vector<int> near(network.number_of_vertices(), -1);  // unknown, no, yes
+    auto near_border = [&](std::size_t v) {
+      if (near[v] < 0) {
+        if (!tree) {
+          tree = std::make_unique<Tree>(faces(tm).first, faces(tm).second, tm, vpm);
+          tree->accelerate_distance_queries();
+        }
+        const Point_3& p = network.point(v);
+        const double reach = std::sqrt(tree->squared_distance(p)) + 0.5 * h;
+        near[v] = 0;
+        for (const Segment_3& b : border)
+          if (CGAL::squared_distance(b, p) <= reach * reach) {
+            near[v] = 1;
+            break;
+          }
+      }
+      return near[v] == 1;
+    };
+    for (std::size_t k = 0; k < whole.size(); ++k) {
+      const auto& sk = network.segments()[k];
+      whole[k] = CGAL::squared_distance(network.point(sk[0]), network.point(sk[1])) > 4 * h * h && near_border(sk[0]) &&
+                 near_border(sk[1]);
+    }
+  }
+  const internal::Resampled_network cut = internal::resample_long_segments(network, h, whole);
+  std::vector<Correspondence> cut_pairs = pairs;
+  for (Correspondence& c : cut_pairs) c.network_vertex = cut.vertex_of[c.network_vertex];
+  // Steps 1-4 on the cut network; the report in terms of the user's network.
+  auto run = [&] {
+    if (cut.added == 0) return internal::fine_on_surface(tm, network, pairs, np);
+    Deformation_report r = internal::fine_on_surface(tm, cut.network, cut_pairs, np);
+    r.network_points_added = cut.added;
+    std::vector<std::size_t> mesh_of(network.number_of_vertices());
+    for (std::size_t v = 0; v < mesh_of.size(); ++v) mesh_of[v] = r.mesh_vertex_of_network_vertex[cut.vertex_of[v]];
+    r.mesh_vertex_of_network_vertex = std::move(mesh_of);
+    std::vector<std::size_t> missing;
+    for (std::size_t k : r.segments_not_embedded) missing.push_back(cut.segment_of[k]);
+    std::sort(missing.begin(), missing.end());
+    missing.erase(std::unique(missing.begin(), missing.end()), missing.end());
+    r.segments_not_embedded = std::move(missing);
+    r.segments_embedded = network.number_of_segments() - r.segments_not_embedded.size();
+    return r;
+  };
+  // The mesh as points (through the point map, which may live outside the mesh) and triangles,
+  // to go back to. Rebuilt in place, vertices and faces in their order (assigning a Surface_mesh
+  // would leave the caller's property maps dangling); values of the caller's other properties on
+  // the mesh are not carried over.
+  struct Snapshot {
+    std::vector<Point_3> points;
+    std::vector<std::array<std::size_t, 3>> triangles;
+  };
+  auto snapshot = [&] {
+    Snapshot shot;
+    auto index = get(CGAL::dynamic_vertex_property_t<std::size_t>(), tm);
+    for (auto v : vertices(tm)) {
+      put(index, v, shot.points.size());
+      const auto p = get(vpm, v);
+      shot.points.emplace_back(p.x(), p.y(), p.z());
+    }
+    for (auto f : faces(tm)) shot.triangles.push_back(internal::triangle_corners(f, tm, index));
+    return shot;
+  };
+  auto restore = [&](const Snapshot& shot) {
+    internal::clear_mesh(tm);
+    using P = typename boost::property_traits<decltype(vpm)>::value_type;
+    std::vector<typename boost::graph_traits<TriangleMesh>::vertex_descriptor> vertex;
+    for (const Point_3& p : shot.points) {
+      vertex.push_back(add_vertex(tm));
+      put(vpm, vertex.back(), P(p.x(), p.y(), p.z()));
+    }
+    for (const auto& t : shot.triangles)
+      if (CGAL::Euler::add_face(std::array{vertex[t[0]], vertex[t[1]], vertex[t[2]]}, tm) ==
+          boost::graph_traits<TriangleMesh>::null_face())
+        throw Numerical_error("deform: the mesh could not be rebuilt to run the fine level again");
+  };
+  auto defects = [](const Deformation_report& r) {
+    return r.segments_not_embedded.size() + r.remaining_flips + r.remaining_folds;
+  };
+  const Snapshot coarse = snapshot();
+  const internal::Approach_result approach = internal::approach_curves(tm, vpm, cut.network, cut_pairs);
+  auto with_approach = [&](Deformation_report r, bool applied) {
+    r.approach_constraints = approach.constraints;
+    r.approach_scale = applied ? approach.scale : 0;
+    return r;
+  };
+  if (approach.scale == 0) return with_approach(run(), false);
+  // The approach brings the surface nearer to the curves, which usually leaves the embedding less
+  // to do, but not always: when the result is not clean, the steps run again from the coarse
+  // surface as it was, and the better result is kept (the first when they tie).
+  std::optional<Deformation_report> first;
+  try {
+    first = with_approach(run(), true);
+  } catch (const Algorithm_failure&) {
+  }
+  if (first && defects(*first) == 0) return *first;
+  std::optional<Snapshot> tried;
+  if (first) tried = snapshot();
+  restore(coarse);
+  Deformation_report second = with_approach(run(), false);
+  second.approach_retried = true;
+  if (!first || defects(second) < defects(*first)) return second;
+  restore(*tried);
+  first->approach_retried = true;
+  return *first;
 }
 
 namespace internal {

@@ -550,6 +550,10 @@ Json json_fine_level(const meshfit::Deformation_report& r) {
   j["method"] = meshfit::to_string(r.fine_level);
   if (r.fine_level == meshfit::Fine_level::surface) {
     j["largest_projection_distance"] = number(r.largest_projection_distance);
+    j["network_points_added"] = r.network_points_added;
+    j["approach_constraints"] = r.approach_constraints;
+    j["approach_scale"] = number(r.approach_scale);
+    j["approach_retried"] = r.approach_retried;
     j["segments_embedded"] = r.segments_embedded;
     j["segments_not_embedded"] = r.segments_not_embedded.size();
     j["segments_by_shortest_path"] = r.segments_by_shortest_path;
