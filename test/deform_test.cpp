@@ -1,6 +1,9 @@
 #include <meshfit/deform.h>
 #include <meshfit/io.h>
 
+#include <CGAL/AABB_face_graph_triangle_primitive.h>
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
 #include <CGAL/Polyhedron_3.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/boost/graph/graph_traits_Polyhedron_3.h>
@@ -439,6 +442,51 @@ TEST_CASE("deform: long straight segments are cut on the way, and embedded as th
   CHECK(r.mesh_vertex_of_network_vertex.size() == e.network.number_of_vertices());
   check_embedded_without_folds(e, r);
 }
+
+#ifdef MESHFIT_CGAL_DATA_DIR
+// The approach (a thin-plate field through the motions of the curves' surface points) must bring
+// the surface nearer the curves without turning a face over: distances and normals measured
+// here, with an AABB tree and the test's own normals.
+TEST_CASE("deform: the approach brings the coarse surface towards the curves, turning nothing over",
+          "[deform][real][surface]") {
+  Example e = load_example(MESHFIT_CGAL_DATA_DIR "/larger_sphere.off");
+  e.pairs = feature_pairs(e.tm, e.network);
+  meshfit::deform_coarse(e.tm, e.network, e.pairs);
+  auto distances = [&](const Mesh& tm) {
+    using Primitive = CGAL::AABB_face_graph_triangle_primitive<Mesh>;
+    CGAL::AABB_tree<CGAL::AABB_traits<meshfit::Kernel, Primitive>> tree(faces(tm).first, faces(tm).second, tm);
+    double sum = 0, worst = 0;
+    for (const auto& p : e.network.points()) {
+      const double d = std::sqrt(tree.squared_distance(p));
+      sum += d;
+      worst = std::max(worst, d);
+    }
+    return std::make_pair(sum / double(e.network.number_of_vertices()), worst);
+  };
+  const Mesh coarse = e.tm;
+  const auto [mean_before, worst_before] = distances(coarse);
+  const auto r = meshfit::internal::approach_curves(e.tm, get(CGAL::vertex_point, e.tm), e.network, e.pairs);
+  const auto [mean_after, worst_after] = distances(e.tm);
+  INFO("mean distance " << mean_before << " -> " << mean_after << ", largest " << worst_before << " -> " << worst_after
+                        << ", " << r.constraints << " vertices given a motion, scale " << r.scale);
+  CHECK(r.scale > 0);
+  CHECK(r.constraints >= e.pairs.size());
+  CHECK(mean_after < 0.5 * mean_before);
+  CHECK(worst_after < worst_before);
+  CHECK(e.tm.number_of_vertices() == coarse.number_of_vertices());
+  std::size_t turned = 0;
+  for (auto f : e.tm.faces()) {
+    auto normal = [&](const Mesh& m) {
+      const auto h = m.halfedge(f);
+      const auto a = m.point(m.source(h)), b = m.point(m.target(h)), c = m.point(m.target(m.next(h)));
+      return CGAL::cross_product(b - a, c - a);
+    };
+    turned += !(normal(coarse) * normal(e.tm) > 0);
+  }
+  CHECK(turned == 0);
+  CHECK(folded_edges(e.tm) <= folded_edges(coarse));
+}
+#endif
 
 TEST_CASE("deform: curves far denser than the template are refused at once, saying what to change",
           "[deform][example][surface][dense]") {
