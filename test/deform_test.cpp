@@ -488,6 +488,41 @@ TEST_CASE("deform: the approach brings the coarse surface towards the curves, tu
 }
 #endif
 
+// On this input the steps after the approach leave folds, so they run again from the coarse
+// surface: the mesh is rebuilt in place, which must give the same result on either mesh type and
+// an embedding checked here with the test's own oracles.
+TEST_CASE("deform: the fine level's second try, from the coarse surface, on Surface_mesh and Polyhedron_3",
+          "[deform][surface][generic]") {
+  Example e;
+  meshfit::read_triangle_mesh(MESHFIT_TEST_DATA_DIR "/peanut/template.off", e.tm);
+  e.network = meshfit::read_curve_network(MESHFIT_TEST_DATA_DIR "/peanut/curves.polylines.txt");
+  e.pairs = meshfit::read_correspondences(MESHFIT_TEST_DATA_DIR "/peanut/pairs.txt", e.network);
+  CGAL::Polyhedron_3<meshfit::Kernel> poly;
+  meshfit::build_triangle_mesh(meshfit::to_mesh_data(e.tm), poly);
+  auto vc = e.tm.add_property_map<Mesh::Vertex_index, int>("v:caller", 7).first;
+  const auto r = meshfit::deform_template(e.tm, e.network, e.pairs);
+  CHECK(r.approach_retried);
+  CHECK(r.approach_constraints > 0);
+  CHECK(r.remaining_flips == 0);
+  CHECK(r.remaining_folds == 0);
+  CHECK(r.segments_not_embedded.empty());
+  CHECK(embedded_exactly(e.tm, e.network, r) == e.network.number_of_vertices());
+  CHECK(segments_as_edge_paths(e.tm, e.network, r.mesh_vertex_of_network_vertex) == e.network.number_of_segments());
+  CHECK(folded_edges(e.tm) == 0);
+  CHECK(CGAL::is_valid_polygon_mesh(e.tm));
+  // The caller's property map is still the mesh's (its values are not carried over).
+  CHECK(e.tm.property_map<Mesh::Vertex_index, int>("v:caller").second);
+  vc[*e.tm.vertices().begin()] = 3;
+  const auto b = meshfit::deform_template(poly, e.network, e.pairs);
+  CHECK(b.approach_retried == r.approach_retried);
+  CHECK(b.vertices == r.vertices);
+  const auto pa = meshfit::to_mesh_data(e.tm).points, pb = meshfit::to_mesh_data(poly).points;
+  REQUIRE(pa.size() == pb.size());
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < pa.size(); ++i) differ += pa[i] != pb[i];
+  CHECK(differ == 0);
+}
+
 TEST_CASE("deform: curves far denser than the template are refused at once, saying what to change",
           "[deform][example][surface][dense]") {
   Example e = densified_example(25);  // 5 490 network vertices on the 2 562-vertex example sphere

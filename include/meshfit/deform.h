@@ -1755,7 +1755,11 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
   auto defects = [](const Deformation_report& r) {
     return r.segments_not_embedded.size() + r.remaining_flips + r.remaining_folds;
   };
-  const Snapshot coarse = snapshot();
+  std::vector<Point_3> coarse_points;
+  for (auto v : vertices(tm)) {
+    const auto p = get(vpm, v);
+    coarse_points.emplace_back(p.x(), p.y(), p.z());
+  }
   const internal::Approach_result approach = internal::approach_curves(tm, vpm, cut.network, cut_pairs);
   auto with_approach = [&](Deformation_report r, bool applied) {
     r.approach_constraints = approach.constraints;
@@ -1763,6 +1767,8 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
     return r;
   };
   if (approach.scale == 0) return with_approach(run(), false);
+  Snapshot coarse = snapshot();  // the approach moved the points only
+  coarse.points = std::move(coarse_points);
   // The approach brings the surface nearer to the curves, which usually leaves the embedding less
   // to do, but not always: when the result is not clean, the steps run again from the coarse
   // surface as it was, and the better result is kept (the first when they tie).
