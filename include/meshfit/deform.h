@@ -206,6 +206,16 @@ struct Deform_state {
     for (std::size_t i = 0; i < vertex.size(); ++i) put(vpm, vertex[i], P(p[i].x(), p[i].y(), p[i].z()));
   }
   std::array<std::size_t, 3> corners(face_descriptor f) const { return triangle_corners(f, tm, index); }
+  /// The vertices' neighbours, by index.
+  Vertex_adjacency adjacency() const {
+    Vertex_adjacency a;
+    a.offsets.reserve(vertex.size() + 1);
+    for (auto v : vertex) {
+      for (auto h : CGAL::halfedges_around_target(halfedge(v, tm), tm)) a.neighbours.push_back(get(index, source(h, tm)));
+      a.offsets.push_back(a.neighbours.size());
+    }
+    return a;
+  }
 
   /// The faces that moving the vertices from `before` to `after` flips or collapses (exact flip
   /// counter). A face of zero area before the motion has no plane to flip in, and subdividing it
@@ -819,13 +829,7 @@ Approach_result approach_curves(TriangleMesh& tm, const VPM& vpm, const Curve_ne
   Deform_state<TriangleMesh, VPM> s(tm, vpm);
   const std::size_t n = s.vertex.size();
   const std::vector<Point_3> before = s.positions();
-  Vertex_adjacency adjacency;
-  adjacency.offsets.reserve(n + 1);
-  for (std::size_t i = 0; i < n; ++i) {
-    for (auto h : CGAL::halfedges_around_target(halfedge(s.vertex[i], tm), tm))
-      adjacency.neighbours.push_back(get(s.index, source(h, tm)));
-    adjacency.offsets.push_back(adjacency.neighbours.size());
-  }
+  const Vertex_adjacency adjacency = s.adjacency();
   std::vector<bool> constrained(n, false), blocked(n, false);
   std::vector<Vector_3> given(n, Vector_3(0, 0, 0));
   Approach_result result;
@@ -1342,13 +1346,7 @@ Deformation_report fine_on_surface(TriangleMesh& tm, const Curve_network& networ
       goal[c] = network.point(a) + t * (network.point(b) - network.point(a));
     }
   }
-  Vertex_adjacency adjacency;
-  adjacency.offsets.reserve(n + 1);
-  for (std::size_t i = 0; i < n; ++i) {
-    for (auto h : CGAL::halfedges_around_target(halfedge(s.vertex[i], tm), tm))
-      adjacency.neighbours.push_back(get(s.index, source(h, tm)));
-    adjacency.offsets.push_back(adjacency.neighbours.size());
-  }
+  const Vertex_adjacency adjacency = s.adjacency();
   std::vector<Vector_3> given(n, Vector_3(0, 0, 0));
   for (std::size_t i = 0; i < n; ++i)
     if (constrained[i]) given[i] = goal[i] - before[i];
@@ -1728,14 +1726,19 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
     std::vector<Point_3> points;
     std::vector<std::array<std::size_t, 3>> triangles;
   };
-  auto snapshot = [&] {
-    Snapshot shot;
-    auto index = get(CGAL::dynamic_vertex_property_t<std::size_t>(), tm);
+  auto points = [&] {
+    std::vector<Point_3> out;
     for (auto v : vertices(tm)) {
-      put(index, v, shot.points.size());
       const auto p = get(vpm, v);
-      shot.points.emplace_back(p.x(), p.y(), p.z());
+      out.emplace_back(p.x(), p.y(), p.z());
     }
+    return out;
+  };
+  auto snapshot = [&] {
+    Snapshot shot{points(), {}};
+    auto index = get(CGAL::dynamic_vertex_property_t<std::size_t>(), tm);
+    std::size_t i = 0;
+    for (auto v : vertices(tm)) put(index, v, i++);
     for (auto f : faces(tm)) shot.triangles.push_back(internal::triangle_corners(f, tm, index));
     return shot;
   };
@@ -1755,11 +1758,7 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
   auto defects = [](const Deformation_report& r) {
     return r.segments_not_embedded.size() + r.remaining_flips + r.remaining_folds;
   };
-  std::vector<Point_3> coarse_points;
-  for (auto v : vertices(tm)) {
-    const auto p = get(vpm, v);
-    coarse_points.emplace_back(p.x(), p.y(), p.z());
-  }
+  std::vector<Point_3> coarse_points = points();
   const internal::Approach_result approach = internal::approach_curves(tm, vpm, cut.network, cut_pairs);
   auto with_approach = [&](Deformation_report r, bool applied) {
     r.approach_constraints = approach.constraints;
