@@ -525,14 +525,20 @@ TEST_CASE("deform: the fine level's second try, from the coarse surface, on Surf
 
 TEST_CASE("deform: curves far denser than the template are refused at once, saying what to change",
           "[deform][example][surface][dense]") {
-  Example e = densified_example(25);  // 5 490 network vertices on the 2 562-vertex example sphere
+  // An octahedron under the example network cut x3 (650 network vertices): three midpoint
+  // subdivisions, the most that are made, give 258 vertices, and the curves leave no room.
+  Example e = densified_example(3);
+  e.tm.clear();
+  meshfit::build_triangle_mesh(meshfit_test::octahedron(), e.tm);
+  e.pairs = feature_pairs(e.tm, e.network);
+  REQUIRE(e.pairs.size() == 6);
   try {
     meshfit::deform_template(e.tm, e.network, e.pairs);
     FAIL("a network twice the template's size with no room between its curves was accepted");
   } catch (const meshfit::Algorithm_failure& f) {
     const std::string m = f.what();
     CHECK_THAT(m, Catch::Contains("the curves are denser than the template can hold"));
-    CHECK_THAT(m, Catch::Contains("5490 network vertices on a template of 2562"));
+    CHECK_THAT(m, Catch::Contains("650 network vertices on a template of 258"));
     CHECK_THAT(m, Catch::Contains("use a finer template (subdivide it), or sparser curves"));
   }
 }
@@ -552,4 +558,64 @@ TEST_CASE("deform: the message for faces left turned over names what each fine l
   CHECK_THAT(m, Catch::StartsWith("3 faces still turn over after 7 rounds of untangling"));
   CHECK_THAT(m, Catch::Contains("313 edges were split between curves"));
   CHECK_THAT(m, Catch::Contains("use a finer template (subdivide it)") && Catch::Contains("give more correspondences"));
+}
+
+namespace {
+// Midpoint subdivision checked on its own terms: positions of the old vertices, every new vertex
+// the midpoint of an old edge, four faces for one, the same total area, a valid mesh.
+template <typename TriangleMesh>
+void check_midpoint_subdivision(const meshfit::Mesh_data& data) {
+  TriangleMesh tm;
+  meshfit::build_triangle_mesh(data, tm);
+  const auto vpm = get(CGAL::vertex_point, tm);
+  std::set<std::pair<std::size_t, std::size_t>> old_edges;
+  for (const auto& t : data.triangles)
+    for (int k = 0; k < 3; ++k) old_edges.insert(std::minmax(t[k], t[(k + 1) % 3]));
+  auto area = [](const meshfit::Mesh_data& m) {
+    double a = 0;
+    for (const auto& t : m.triangles)
+      a += std::sqrt(CGAL::cross_product(m.points[t[1]] - m.points[t[0]], m.points[t[2]] - m.points[t[0]]).squared_length()) / 2;
+    return a;
+  };
+  meshfit::internal::subdivide_at_midpoints(tm, vpm);
+  REQUIRE(CGAL::is_valid_polygon_mesh(tm));
+  REQUIRE(CGAL::is_triangle_mesh(tm));
+  const meshfit::Mesh_data out = meshfit::to_mesh_data(tm);
+  CHECK(out.triangles.size() == 4 * data.triangles.size());
+  REQUIRE(out.points.size() == data.points.size() + old_edges.size());
+  for (std::size_t i = 0; i < data.points.size(); ++i) CHECK(out.points[i] == data.points[i]);
+  std::set<std::pair<std::size_t, std::size_t>> used;
+  for (std::size_t i = data.points.size(); i < out.points.size(); ++i) {
+    std::size_t found = 0;
+    for (const auto& [a, b] : old_edges)
+      if (CGAL::midpoint(data.points[a], data.points[b]) == out.points[i] && used.insert({a, b}).second) ++found;
+    CHECK(found == 1);
+  }
+  CHECK(std::abs(area(out) - area(data)) <= 1e-12 * area(data));
+  CHECK(CGAL::is_closed(tm) == (data.triangles.size() == 8));
+}
+}  // namespace
+
+TEST_CASE("deform: midpoint subdivision keeps the vertices and the surface, on Surface_mesh and Polyhedron_3",
+          "[deform][subdivision]") {
+  check_midpoint_subdivision<Mesh>(meshfit_test::octahedron());
+  check_midpoint_subdivision<Mesh>(meshfit_test::grid(3));
+  check_midpoint_subdivision<CGAL::Polyhedron_3<meshfit::Kernel>>(meshfit_test::octahedron());
+  check_midpoint_subdivision<CGAL::Polyhedron_3<meshfit::Kernel>>(meshfit_test::grid(3));
+}
+
+TEST_CASE("deform: a template with fewer than twice the network's vertices is subdivided first, and fits without folds",
+          "[deform][example][surface][subdivision]") {
+  // The example network cut x8 (about 1 700 network vertices) on the 2 562-vertex example sphere:
+  // without subdivision it left 3 faces turned over (measured before the subdivision was made);
+  // one subdivision gives 10 242 vertices.
+  Example e = densified_example(8);
+  const std::size_t n0 = e.tm.number_of_vertices(), f0 = e.tm.number_of_faces();
+  REQUIRE(2 * e.network.number_of_vertices() > n0);
+  const auto r = meshfit::deform_template(e.tm, e.network, e.pairs);
+  CHECK(r.template_subdivisions == 1);
+  CHECK(e.tm.number_of_faces() >= 4 * f0);
+  check_embedded_without_folds(e, r);
+  // The user's pairs keep their template vertices: vertex i of the result is template vertex i.
+  for (const auto& p : e.pairs) CHECK(e.tm.point(Mesh::Vertex_index(static_cast<Mesh::size_type>(p.template_vertex))) == e.network.point(p.network_vertex));
 }

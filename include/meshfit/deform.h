@@ -22,6 +22,7 @@
 #include <meshfit/internal/clear_mesh.h>
 #include <meshfit/internal/resample_network.h>
 #include <meshfit/internal/stage_support.h>
+#include <meshfit/internal/subdivide.h>
 #include <meshfit/internal/triangle_corners.h>
 #include <meshfit/internal/unit_scale.h>
 #include <meshfit/memory_limit.h>
@@ -119,6 +120,10 @@ struct Deformation_report {
   bool approach_retried = false;
   /// Points added on long segments (deform_fine_on_surface, step 0), which become mesh vertices.
   std::size_t network_points_added = 0;
+  /// Steps of midpoint subdivision of the template before the coarse level (deform_template),
+  /// each splitting every face into four: a template with fewer than twice as many vertices as
+  /// the network leaves the curves no free vertex between them.
+  std::size_t template_subdivisions = 0;
   std::size_t segments_embedded = 0;        ///< as edge chains of the coarse surface
   /// Of those (or of their pieces, when cut), where stage 2's insertion could not.
   std::size_t segments_by_shortest_path = 0;
@@ -1171,11 +1176,17 @@ Deformation_report fine_on_surface(TriangleMesh& tm, const Curve_network& networ
   for (std::size_t i = 0; i < s.vertex.size(); ++i) reference_normal[i] = s.normal(i);
 
   // The network as projected, but for the boundary segments, embedded by stage 2's insertion.
+  // Two network vertices placed at one point (curves denser than the template's faces there)
+  // would make a segment of zero length, which no network holds.
+  const char* too_dense = "network vertices land on the surface where others do: the curves are "
+                          "denser than the template can hold there (refine the template)";
   std::vector<Curve_network::Polyline> lines;
   for (std::size_t k = 0; k < network.segments().size(); ++k)
-    if (arc[k].empty())
+    if (arc[k].empty()) {
       lines.push_back({s.to_point(s.vertex[mesh_of[network.segments()[k][0]]]),
                        s.to_point(s.vertex[mesh_of[network.segments()[k][1]]])});
+      if (lines.back()[0] == lines.back()[1]) throw Algorithm_failure("deform", too_dense);
+    }
   auto curve = get(CGAL::dynamic_edge_property_t<bool>(), tm);
   for (auto e : edges(tm)) put(curve, e, false);
   if (!lines.empty()) {
@@ -1184,8 +1195,7 @@ Deformation_report fine_on_surface(TriangleMesh& tm, const Curve_network& networ
     for (std::size_t k = 0; k < network.segments().size(); ++k)
       if (arc[k].empty()) used[network.segments()[k][0]] = used[network.segments()[k][1]] = true;
     if (projected.number_of_vertices() != static_cast<std::size_t>(std::count(used.begin(), used.end(), true)))
-      throw Algorithm_failure("deform", "network vertices land on the surface where others do: the curves are "
-                                        "denser than the template can hold there (refine the template)");
+      throw Algorithm_failure("deform", too_dense);
     try {
       report.embedding = partition_mesh(
           tm, projected,
@@ -1351,8 +1361,7 @@ Deformation_report fine_on_surface(TriangleMesh& tm, const Curve_network& networ
   for (std::size_t i = 0; i < n; ++i)
     if (constrained[i]) given[i] = goal[i] - before[i];
   const std::vector<Vector_3> d = interpolate_displacements(adjacency, constrained, given, 2, &report.displacement);
-  std::vector<Point_3> after(n);
-  for (std::size_t i = 0; i < n; ++i) after[i] = constrained[i] ? goal[i] : before[i] + d[i];
+  std::vector<Point_3> after = before;
   report.fine_pairs = static_cast<std::size_t>(std::count(constrained.begin(), constrained.end(), true));
 
   // 4. Untangling: move the free vertices around faces that turned over or fold (4a, 4b below).
@@ -1390,9 +1399,7 @@ Deformation_report fine_on_surface(TriangleMesh& tm, const Curve_network& networ
     bad.insert(bad.end(), steep.begin(), steep.end());
     return bad;
   };
-  auto flipped = bad_faces();
-  report.flips_found = flipped.size();
-  report.flip_rounds = 1;
+  std::vector<typename GT::face_descriptor> flipped;
   // The free vertices of the bad faces and those up to `rings` edges away from them.
   auto rings_around = [&](const std::vector<typename GT::face_descriptor>& bad, std::size_t rings) {
     std::vector<bool> in(n, false);
@@ -1415,7 +1422,7 @@ Deformation_report fine_on_surface(TriangleMesh& tm, const Curve_network& networ
   // faces, the rings growing while faces stay bad; each face judged in the plane of the reference
   // normal it is judged against here, each vertex moving in the plane of its own. The border
   // stays where it is. A result is kept only when it leaves fewer bad faces.
-  if (!flipped.empty()) {
+  auto untangle_around_bad = [&] {
     std::vector<std::array<std::size_t, 3>> corners;
     std::vector<Vector_3> face_normal;
     for (auto f : faces(tm)) {
@@ -1442,7 +1449,21 @@ Deformation_report fine_on_surface(TriangleMesh& tm, const Curve_network& networ
       ++report.untangle_rounds;
       if (flipped.empty()) break;
     }
+  };
+  // The displacement is applied in four equal parts, untangling after each: a tangle is repaired
+  // while it is small, before the rest of the motion makes it large (on the battery's
+  // ico2562-superellipsoid-latlong-dense10: exit 3 with one face turned over in one step, clean
+  // in four).
+  constexpr std::size_t steps = 4;
+  for (std::size_t step = 1; step <= steps; ++step) {
+    const double t = static_cast<double>(step) / static_cast<double>(steps);
+    for (std::size_t i = 0; i < n; ++i)
+      after[i] = constrained[i] ? (step == steps ? goal[i] : before[i] + t * given[i]) : after[i] + d[i] / static_cast<double>(steps);
+    flipped = bad_faces();
+    if (step == 1) report.flips_found = flipped.size();
+    if (!flipped.empty()) untangle_around_bad();
   }
+  report.flip_rounds = 1;
   // 4b. Relaxation pulls vertices towards their neighbours' mean, which also shrinks what it
   // relaxes: rings grow only a little, and the best state seen is kept.
   std::vector<Point_3> best = after;
@@ -1789,16 +1810,35 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
 }
 
 namespace internal {
+/// The largest template that deform_template's subdivision makes.
+constexpr std::size_t max_subdivided_faces = 2000000;
+
 /// deform_template on the inputs as they are.
 template <typename TriangleMesh, typename NamedParameters>
 Deformation_report deform_template_unscaled(TriangleMesh& tm, const Curve_network& network,
                                             const std::vector<Correspondence>& pairs, const NamedParameters& np) {
   using CGAL::parameters::choose_parameter;
   using CGAL::parameters::get_parameter;
-  Deformation_report coarse = deform_coarse(tm, network, pairs, np);
-  if (coarse.orientation_reversed || choose_parameter(get_parameter(np, internal_np::coarse_only), false))
-    return coarse;
+  const bool coarse_only = choose_parameter(get_parameter(np, internal_np::coarse_only), false);
   const Fine_level level = choose_parameter(get_parameter(np, internal_np::fine_level), Fine_level::surface);
+  const Curve_density density = choose_parameter(get_parameter(np, internal_np::curve_density), Curve_density::refine);
+  // The surface fine level gives every network vertex a mesh vertex and needs free vertices
+  // between the curves: a template with fewer than twice the network's vertices is subdivided
+  // (before the coarse level, so that the new vertices follow the RBF rather than the chords),
+  // at most three times and to at most max_subdivided_faces faces.
+  std::size_t subdivisions = 0;
+  if (level == Fine_level::surface && density == Curve_density::refine && !coarse_only) {
+    check_pairs(pairs, num_vertices(tm), num_faces(tm), network);
+    const auto vpm = vertex_point_map_of(tm, np);
+    while (subdivisions < 3 && num_vertices(tm) < 2 * network.number_of_vertices() &&
+           4 * num_faces(tm) <= max_subdivided_faces) {
+      subdivide_at_midpoints(tm, vpm);
+      ++subdivisions;
+    }
+  }
+  Deformation_report coarse = deform_coarse(tm, network, pairs, np);
+  coarse.template_subdivisions = subdivisions;
+  if (coarse.orientation_reversed || coarse_only) return coarse;
   Deformation_report fine = level == Fine_level::surface ? deform_fine_on_surface(tm, network, pairs, np)
                                                          : deform_fine(tm, network, pairs, np);
   fine.coarse_fit = coarse.coarse_fit;
@@ -1806,12 +1846,17 @@ Deformation_report deform_template_unscaled(TriangleMesh& tm, const Curve_networ
   fine.coarse_flipped_faces = coarse.coarse_flipped_faces;
   fine.orientation_reversed = coarse.orientation_reversed;
   fine.coarse_affine_determinant = coarse.coarse_affine_determinant;
+  fine.template_subdivisions = subdivisions;
   return fine;
 }
 }  // namespace internal
 
 /// Both levels: deform_coarse then the fine level (unless the named parameter `coarse_only` is
 /// true): deform_fine_on_surface, or deform_fine with `fine_level(Fine_level::thesis)`.
+/// With the surface fine level and Curve_density::refine (the defaults), a template with fewer
+/// than twice as many vertices as the network is first subdivided at its edges' midpoints (every
+/// face into four; at most three times, to at most 2e6 faces; `template_subdivisions`): the
+/// template's vertices keep their indices, the new ones come after them.
 /// The report holds the figures of both. When the coarse level reverses the orientation (pairs
 /// that mirror the template), the fine level is not run: the report says so and the caller
 /// decides (the command line fails with exit status 3).

@@ -11,6 +11,7 @@
 #include <meshfit/deform.h>
 #include <meshfit/exceptions.h>
 #include <meshfit/flip.h>
+#include <meshfit/internal/angle_flips.h>
 #include <meshfit/io.h>
 #include <meshfit/internal/stage_support.h>
 #include <meshfit/internal/unit_scale.h>
@@ -83,6 +84,8 @@ struct Fit_report {
   std::size_t template_vertices = 0, template_faces = 0;
   std::size_t vertices = 0, faces = 0;
   double minimum_angle_deg = 0;  ///< smallest angle of the result's triangles
+  /// Edges flipped after smoothing to raise the smallest angle (internal::flip_for_angles).
+  std::size_t angle_flips = 0;
   /// For each network vertex, the index of its mesh vertex (order of vertices(tm)).
   std::vector<std::size_t> mesh_vertex_of_network_vertex;
 };
@@ -237,6 +240,9 @@ Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& input_n
                                      lap_iterations, parameters::step_size(
                                                          step, parameters::progress(
                                                                    progress, CGAL::parameters::edge_is_constrained_map(curve).vertex_is_constrained_map(pinned))))));
+  // Needles that no vertex motion can mend (a free vertex between two close curve vertices, or
+  // two free vertices pressed together) go by flipping edges where the surface is nearly flat.
+  report.angle_flips = internal::flip_for_angles(work, wvpm, curve, 20 * CGAL_PI / 180);
   report.smooth_seconds = internal::seconds_since(t);
 
   // Verification.

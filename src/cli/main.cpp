@@ -550,6 +550,7 @@ Json json_fine_level(const meshfit::Deformation_report& r) {
   j["method"] = meshfit::to_string(r.fine_level);
   if (r.fine_level == meshfit::Fine_level::surface) {
     j["largest_projection_distance"] = number(r.largest_projection_distance);
+    j["template_subdivisions"] = r.template_subdivisions;
     j["network_points_added"] = r.network_points_added;
     j["approach_constraints"] = r.approach_constraints;
     j["approach_scale"] = number(r.approach_scale);
@@ -1057,7 +1058,8 @@ int run_fit(const Command_line& cl) {
                   {"vertices_moved_onto_segments", pr.vertices_moved},
                   {"regions", pr.regions},
                   {"smoothing_iterations", sr.iterations},
-                  {"vertices_fixed_in_smoothing", sr.fixed_vertices}};
+                  {"vertices_fixed_in_smoothing", sr.fixed_vertices},
+                  {"angle_flips", r.angle_flips}};
   js["quality"] = {{"template_vertices", r.template_vertices},
                    {"template_faces", r.template_faces},
                    {"vertices", out.points.size()},
