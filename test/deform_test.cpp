@@ -488,7 +488,7 @@ TEST_CASE("deform: the approach brings the coarse surface towards the curves, tu
 }
 #endif
 
-// On this input the steps after the approach leave folds, so they run again from the coarse
+// On this input the steps after the approach leave defects, so they run again from the coarse
 // surface: the mesh is rebuilt in place, which must give the same result on either mesh type and
 // an embedding checked here with the test's own oracles.
 TEST_CASE("deform: the fine level's second try, from the coarse surface, on Surface_mesh and Polyhedron_3",

@@ -247,3 +247,96 @@ TEST_CASE("fit: CGAL's elephant fitted to curves from a deformed copy of itself"
   CHECK(r.deformation.remaining_flips == 0);
 }
 #endif
+
+namespace {
+// A sheared grid whose diagonals all run the long way: every quadrilateral's other diagonal gives
+// larger angles. `lift` bends it along x = 2 into a roof (0: flat).
+meshfit::Mesh_data sheared_grid(std::size_t n, double lift) {
+  meshfit::Mesh_data m = meshfit_test::grid(n);
+  for (auto& p : m.points) {
+    const double x = p.x() + 0.9 * p.y();
+    p = meshfit::Point_3(x, p.y(), lift * std::abs(x - 2.0));
+  }
+  return m;
+}
+
+double smallest_angle_deg(const meshfit::Mesh_data& m) {
+  double smallest = 180;
+  for (const auto& t : m.triangles)
+    for (int k = 0; k < 3; ++k) {
+      const meshfit::Vector_3 a = m.points[t[(k + 1) % 3]] - m.points[t[k]], b = m.points[t[(k + 2) % 3]] - m.points[t[k]];
+      smallest = std::min(smallest, std::acos(a * b / std::sqrt(a.squared_length() * b.squared_length())) * 180 / CGAL_PI);
+    }
+  return smallest;
+}
+}  // namespace
+
+TEST_CASE("fit: edge flips raise the smallest angle on flat parts, keeping curve edges, vertices and the surface",
+          "[fit][flips]") {
+  const meshfit::Mesh_data input = sheared_grid(6, 0);
+  Mesh tm;
+  meshfit::build_triangle_mesh(input, tm);
+  auto curve = get(CGAL::dynamic_edge_property_t<bool>(), tm);
+  // The diagonals of the first column of squares are curve edges.
+  std::vector<std::pair<Mesh::Vertex_index, Mesh::Vertex_index>> held;
+  for (auto e : tm.edges()) {
+    const auto a = tm.point(tm.source(tm.halfedge(e))), b = tm.point(tm.target(tm.halfedge(e)));
+    const bool diagonal = a.y() != b.y() && std::abs(std::abs(b.x() - a.x()) - 1.9) < 1e-12;
+    const bool first_column = std::min(a.x() - 0.9 * a.y(), b.x() - 0.9 * b.y()) < 0.5;
+    put(curve, e, diagonal && first_column);
+    if (diagonal && first_column) held.emplace_back(tm.source(tm.halfedge(e)), tm.target(tm.halfedge(e)));
+  }
+  REQUIRE(held.size() == 6);
+  const std::size_t flips = meshfit::internal::flip_for_angles(tm, get(CGAL::vertex_point, tm), curve, 20 * CGAL_PI / 180);
+  const meshfit::Mesh_data out = meshfit::to_mesh_data(tm);
+  CHECK(flips == 30);  // every other diagonal of the 6 x 6 squares
+  CHECK(out.points == input.points);
+  CHECK(out.triangles.size() == input.triangles.size());
+  for (const auto& [a, b] : held) CHECK(CGAL::halfedge(a, b, tm).second);
+  // Away from the held column the faces are the good diagonals' (smallest angle 47.7 degrees, 20.3
+  // before); beside it they are as they were.
+  meshfit::Mesh_data away = out;
+  away.triangles.clear();
+  for (const auto& t : out.triangles) {
+    bool beside = false;
+    for (const auto& [a, b] : held)
+      for (int k = 0; k < 3; ++k) beside = beside || std::minmax<std::size_t>(t[k], t[(k + 1) % 3]) == std::minmax<std::size_t>(a, b);
+    if (!beside) away.triangles.push_back(t);
+  }
+  REQUIRE(away.triangles.size() == out.triangles.size() - 12);
+  CHECK(smallest_angle_deg(input) < 20.5);
+  CHECK(smallest_angle_deg(away) > 47);
+  // Still a tiling of the same parallelogram: every face upwards, the same total area.
+  double area_in = 0, area_out = 0;
+  for (const auto& t : out.triangles) {
+    const double z = CGAL::cross_product(out.points[t[1]] - out.points[t[0]], out.points[t[2]] - out.points[t[0]]).z();
+    CHECK(z > 0);
+    area_out += z / 2;
+  }
+  for (const auto& t : input.triangles)
+    area_in += CGAL::cross_product(input.points[t[1]] - input.points[t[0]], input.points[t[2]] - input.points[t[0]]).z() / 2;
+  CHECK(std::abs(area_out - area_in) < 1e-12 * area_in);
+}
+
+TEST_CASE("fit: edge flips leave a bent surface's shape alone", "[fit][flips]") {
+  // A roof folded by about 90 degrees along x = 2: a flip across the ridge would cut the roof's
+  // corner off; the flat parts may still be flipped. Every face must keep all its corners on
+  // one side of the ridge (x <= 2 or x >= 2), as the input's do.
+  const meshfit::Mesh_data input = sheared_grid(6, 1.0);
+  Mesh tm;
+  meshfit::build_triangle_mesh(input, tm);
+  auto curve = get(CGAL::dynamic_edge_property_t<bool>(), tm);
+  for (auto e : tm.edges()) put(curve, e, false);
+  auto one_side = [](const meshfit::Mesh_data& m) {
+    std::size_t straddling = 0;
+    for (const auto& t : m.triangles) {
+      bool left = false, right = false;
+      for (std::size_t c : t) left = left || m.points[c].x() < 2 - 1e-12, right = right || m.points[c].x() > 2 + 1e-12;
+      straddling += left && right;
+    }
+    return straddling;
+  };
+  const std::size_t before = one_side(input);
+  meshfit::internal::flip_for_angles(tm, get(CGAL::vertex_point, tm), curve, 20 * CGAL_PI / 180);
+  CHECK(one_side(meshfit::to_mesh_data(tm)) <= before);
+}

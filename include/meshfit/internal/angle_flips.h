@@ -36,7 +36,8 @@ inline double smallest_angle(const Point_3& a, const Point_3& b, const Point_3& 
 ///   `max_dihedral` radians of each other (the surface keeps its shape to a small fraction of an
 ///   edge);
 /// - both new faces keep the side of the old ones (exact orientation against the sum of the old
-///   faces' unit normals), x-y is not an edge yet, and u and v keep three edges at least;
+///   faces' unit normals), x-y is not an edge yet, and u and v keep a face on each side of
+///   every edge (three edges at least inside, two on the border);
 /// - no edge around the quadrilateral folds (internal::edge_folds) that did not before.
 /// Vertices do not move; the face count, the faces' descriptors and so a face patch map are kept
 /// (both faces of a non-curve edge lie in one region). Edges are visited from a queue: every
@@ -68,7 +69,9 @@ std::size_t flip_for_angles(TriangleMesh& tm, const VPM& vpm, const ECM& constra
     const auto h = halfedge(e, tm), g = opposite(h, tm);
     if (get(constrained, e) || is_border(h, tm) || is_border(g, tm)) continue;
     const auto u = source(h, tm), v = target(h, tm), x = target(next(h, tm), tm), y = target(next(g, tm), tm);
-    if (x == y || halfedge(x, y, tm).second || degree(u, tm) <= 3 || degree(v, tm) <= 3) continue;
+    // An interior vertex keeps three edges at least, a border vertex two (one face).
+    auto spare = [&](typename GT::vertex_descriptor w) { return degree(w, tm) > (is_border(w, tm) ? 2u : 3u); };
+    if (x == y || halfedge(x, y, tm).second || !spare(u) || !spare(v)) continue;
     const Point_3 pu = point(u), pv = point(v), px = point(x), py = point(y);
     const double before = std::min(smallest_angle(pu, pv, px), smallest_angle(pv, pu, py));
     const double after = std::min(smallest_angle(pv, px, py), smallest_angle(px, pu, py));
