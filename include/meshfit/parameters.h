@@ -90,7 +90,10 @@ MESHFIT_NAMED_PARAMETERS(MESHFIT_NAMED_PARAMETER_TAG)
 /// pack reads left to right: `meshfit::parameters::rbf_kernel(k).progress(cb).number_of_iterations(5)`.
 /// It is a `CGAL::Named_function_parameters<T, Tag, Base>` (by derivation; the base class and its
 /// `base` type are CGAL's own), so `CGAL::parameters::get_parameter()` and `choose_parameter()`
-/// read it and CGAL's functions accept it. `Base` is the rest of the pack: another
+/// read it and CGAL's functions accept it (one limit of the derivation: where CGAL overloads a
+/// function on `const CGAL::Named_function_parameters<…>&` against one taking any type in that
+/// place, the pack, not being exactly CGAL's type, may pick the other overload; `cgal_parameters()`
+/// gives the pack as CGAL's type for such a call). `Base` is the rest of the pack: another
 /// meshfit::Named_parameters, a CGAL pack, or `CGAL::internal_np::No_property`.
 template <typename T, typename Tag, typename Base = CGAL::internal_np::No_property>
 struct Named_parameters : CGAL::Named_function_parameters<T, Tag, Base> {
@@ -101,6 +104,9 @@ struct Named_parameters : CGAL::Named_function_parameters<T, Tag, Base> {
   Named_parameters() : Cgal_named_parameters() {}
   explicit Named_parameters(const T& value) : Cgal_named_parameters(value) {}
   Named_parameters(const T& value, const Base& rest) : Cgal_named_parameters(value, rest) {}
+
+  /// This pack as CGAL's own type (the same parameters).
+  const Cgal_named_parameters& cgal_parameters() const { return *this; }
 
 #define MESHFIT_NAMED_PARAMETER_MEMBER(NAME)                                    \
   template <typename K>                                                         \
@@ -153,5 +159,22 @@ MESHFIT_NAMED_PARAMETERS(MESHFIT_NAMED_PARAMETER_FUNCTIONS)
 
 }  // namespace parameters
 }  // namespace meshfit
+
+namespace CGAL {
+
+template <typename PolygonMesh, typename NamedParametersGT, typename NamedParametersVPM>
+class GetGeomTraits;
+
+/// As CGAL does for its own packs (CGAL/Polygon_mesh_processing/measure.h): where an overload
+/// takes the pack's place for a mesh (`PMP::area(tm, np)` also matches `area(face_range, tm)` with
+/// the pack as the mesh), the geometric traits of a pack must fail substitution quietly instead of
+/// instantiating a property map of the pack.
+template <typename T, typename Tag, typename Base, typename NamedParametersGT, typename NamedParametersVPM>
+class GetGeomTraits<meshfit::Named_parameters<T, Tag, Base>, NamedParametersGT, NamedParametersVPM> {
+ public:
+  struct type {};
+};
+
+}  // namespace CGAL
 
 #endif  // MESHFIT_PARAMETERS_H

@@ -214,9 +214,11 @@ struct Smoothing_front_end {
   using vertex_descriptor = typename GT::vertex_descriptor;
 
   TriangleMesh& tm;
-  decltype(CGAL::parameters::choose_parameter(
+  // A copy of the map (decayed: choose_parameter returns a reference to get_parameter's temporary
+  // when the caller gives a vertex_point_map).
+  std::decay_t<decltype(CGAL::parameters::choose_parameter(
       CGAL::parameters::get_parameter(std::declval<const NamedParameters&>(), CGAL::internal_np::vertex_point),
-      get_property_map(CGAL::vertex_point, std::declval<TriangleMesh&>()))) vpm;
+      get_property_map(CGAL::vertex_point, std::declval<TriangleMesh&>())))> vpm;
   std::vector<vertex_descriptor> vertex;
   Smoothing_arrays arrays;
 
