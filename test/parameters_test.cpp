@@ -15,6 +15,11 @@
 #include <CGAL/boost/graph/helpers.h>
 #include <CGAL/boost/graph/properties_Polyhedron_3.h>
 
+// CGAL 5.5 still has PMP::smooth_mesh, in a deprecated header: included to check that meshfit's
+// combined method does not clash with it.
+#define CGAL_NO_DEPRECATION_WARNINGS
+#include <CGAL/Polygon_mesh_processing/smooth_mesh.h>
+
 #include <catch2/catch.hpp>
 
 #include "test_helpers.h"
@@ -67,6 +72,24 @@ struct Void_counter {
 };
 
 }  // namespace
+
+namespace using_directives {
+using namespace meshfit;
+using namespace CGAL::Polygon_mesh_processing;
+
+// Unqualified, as a user with both using-directives writes it: meshfit's is the only candidate
+// (PMP::smooth_mesh was ambiguous with meshfit's former smooth_mesh, or chosen over it).
+inline Smoothing_report smooth_unqualified(Surface& tm) { return smooth_fitted_mesh(tm); }
+inline Smoothing_report smooth_unqualified(Surface& tm, int iterations) {
+  return smooth_fitted_mesh(tm, CGAL::parameters::number_of_iterations(iterations));
+}
+}  // namespace using_directives
+
+TEST_CASE("parameters: smooth_fitted_mesh does not clash with PMP::smooth_mesh under using-directives", "[parameters]") {
+  Surface tm = make_mesh<Surface>(meshfit_test::octahedron());
+  CHECK(using_directives::smooth_unqualified(tm).iterations == 100);
+  CHECK(using_directives::smooth_unqualified(tm, 3).iterations == 3);
+}
 
 TEST_CASE("parameters: a chain of meshfit and CGAL parameters reads back with its types and values",
           "[parameters]") {
