@@ -222,6 +222,7 @@ TEMPLATE_TEST_CASE("parameters: CGAL's functions accept a meshfit chain and read
   CHECK(faces(tm).size() == 12);
   CHECK(CGAL::is_triangle_mesh(tm));
   CHECK(PMP::area(tm, chain) == Approx(6.0));
+  CHECK(PMP::area(tm, chain.cgal_parameters()) == Approx(6.0));  // the same pack as CGAL's type
 
   // The chain's vertex_point_map is the one CGAL uses: a map of points twice as far from the
   // origin gives four times the area and the same normals.
