@@ -1,6 +1,6 @@
 // Benchmark of stage 3 against CGAL's smoothing, on the same noisy sphere:
 //   meshfit::modified_laplacian_flow (the tangential Laplacian step, eq. 4.10–4.13),
-//   meshfit::smooth_mesh (the combined method), CGAL::Polygon_mesh_processing::tangential_relaxation
+//   meshfit::smooth_fitted_mesh (the combined method), CGAL::Polygon_mesh_processing::tangential_relaxation
 //   and CGAL::Polygon_mesh_processing::smooth_shape.
 //   smooth_bench <subdivision frequency k (vertices 10k²+2)> <iterations> <smooth_shape iterations>
 // Prints one line per method: time per vertex and iteration, volume change and triangle quality.
@@ -149,8 +149,8 @@ int main(int argc, char** argv) {
   run("meshfit_modified_laplacian", iterations, [&](Mesh& tm) {
     meshfit::modified_laplacian_flow(tm, CGAL::parameters::number_of_iterations(iterations));
   });
-  run("meshfit_smooth_mesh", iterations, [&](Mesh& tm) {
-    meshfit::smooth_mesh(tm, CGAL::parameters::number_of_iterations(iterations));
+  run("meshfit_smooth_fitted_mesh", iterations, [&](Mesh& tm) {
+    meshfit::smooth_fitted_mesh(tm, CGAL::parameters::number_of_iterations(iterations));
   });
   run("cgal_tangential_relaxation", iterations, [&](Mesh& tm) {
     CGAL::Polygon_mesh_processing::tangential_relaxation(tm, CGAL::parameters::number_of_iterations(iterations));

@@ -30,10 +30,9 @@ int main(int argc, char** argv) {
     const double volume = CGAL::Polygon_mesh_processing::volume(tm);
     auto progress = [](const meshfit::Progress_step& s) {
       if (s.index % 20 == 0) std::cout << s.stage << ": " << s.step << " " << s.index + 1 << "/" << s.total << "\n";
-      return true;
-    };
+    };  // returns nothing: never cancels (return false from a bool callback to cancel)
     const meshfit::Smoothing_report r =
-        meshfit::smooth_mesh(tm, meshfit::parameters::progress(progress, CGAL::parameters::number_of_iterations(100)));
+        meshfit::smooth_fitted_mesh(tm, meshfit::parameters::progress(progress).number_of_iterations(100));
     std::cout << "smoothed " << r.vertices << " vertices (" << r.fixed_vertices << " fixed): " << r.mean_curvature_iterations
               << " iterations of modified mean-curvature flow, " << r.laplacian_iterations
               << " of modified Laplacian flow, " << r.seconds << " s\n"

@@ -114,8 +114,7 @@ TEST_CASE("deform: the thesis's density mode keeps the mesh size and reports the
   Example e = load_example();
   const auto r = meshfit::deform_template(
       e.tm, e.network, e.pairs,
-      meshfit::parameters::curve_density(meshfit::Curve_density::drop,
-                                         meshfit::parameters::fine_level(meshfit::Fine_level::thesis)));
+      meshfit::parameters::curve_density(meshfit::Curve_density::drop).fine_level(meshfit::Fine_level::thesis));
   CHECK(r.remaining_flips == 0);
   CHECK(e.tm.number_of_vertices() == 2562);
   CHECK(e.tm.number_of_faces() == 5120);

@@ -37,12 +37,12 @@ TEST_CASE("fit: the embedded example is fitted, partitioned into 12 regions and 
   std::vector<std::string> stages;
   const meshfit::Fit_report r = meshfit::fit_template_to_curves(
       in.tm, in.network, in.pairs,
-      meshfit::parameters::progress(
-          [&](const meshfit::Progress_step& s) {
-            if (stages.empty() || stages.back() != s.stage) stages.push_back(s.stage);
-            return true;
-          },
-          CGAL::parameters::edge_is_constrained_map(curve).face_patch_map(region)));
+      meshfit::parameters::progress([&](const meshfit::Progress_step& s) {
+        if (stages.empty() || stages.back() != s.stage) stages.push_back(s.stage);
+        return true;
+      })
+          .edge_is_constrained_map(curve)
+          .face_patch_map(region));
   INFO("problems: " << r.verification.problems().size());
   CHECK(r.verification.passed());
   CHECK(stages == std::vector<std::string>{"deform", "partition", "smooth", "fit"});

@@ -258,8 +258,8 @@ TEST_CASE("smooth: the combined method keeps the volume, removes the noise and e
       REQUIRE(flipped_faces(clean, input) == 0);
       Mesh lap = input, mc = input, ours = input;
       const auto rl = meshfit::laplacian_flow(lap, CGAL::parameters::number_of_iterations(20));
-      const auto rm = meshfit::mean_curvature_flow(mc, mp::step_size(0.1, CGAL::parameters::number_of_iterations(60)));
-      const auto ro = meshfit::smooth_mesh(ours, CGAL::parameters::number_of_iterations(100));
+      const auto rm = meshfit::mean_curvature_flow(mc, mp::step_size(0.1).number_of_iterations(60));
+      const auto ro = meshfit::smooth_fitted_mesh(ours, CGAL::parameters::number_of_iterations(100));
       const Measures mi = measure(s, input, clean), ml = measure(s, lap, clean), mm = measure(s, mc, clean),
                      mo = measure(s, ours, clean), m0 = measure(s, clean, clean);
       auto line = [](const char* name, const Measures& m) {
@@ -362,7 +362,7 @@ TEST_CASE("smooth: constrained vertices, curve vertices and the boundary do not 
          return meshfit::modified_laplacian_flow(m, CGAL::parameters::vertex_is_constrained_map(vc).edge_is_constrained_map(ec));
        }},
       {"combined", [](Mesh& m, auto vc, auto ec) {
-         return meshfit::smooth_mesh(m, CGAL::parameters::vertex_is_constrained_map(vc).edge_is_constrained_map(ec));
+         return meshfit::smooth_fitted_mesh(m, CGAL::parameters::vertex_is_constrained_map(vc).edge_is_constrained_map(ec));
        }}};
   for (const auto& [name, run] : runs) {
     SECTION(name) {
@@ -395,7 +395,7 @@ TEST_CASE("smooth: constrained vertices, curve vertices and the boundary do not 
     for (auto& p : g.points) p = Point_3(p.x() + d(rng), p.y() + d(rng), 0.3 * d(rng));
     meshfit::build_triangle_mesh(g, tm);
     const Mesh before = tm;
-    const auto r = meshfit::smooth_mesh(tm);
+    const auto r = meshfit::smooth_fitted_mesh(tm);
     CHECK(r.fixed_vertices == 48);
     for (auto v : tm.vertices())
       if (CGAL::is_border(v, tm)) CHECK(tm.point(v) == before.point(v));
@@ -424,7 +424,7 @@ TEST_CASE("smooth: no edge folds, across curves either", "[smooth][constraints]"
   }
   REQUIRE(curve_edges > 200);
   const auto np = CGAL::parameters::edge_is_constrained_map(ec);
-  SECTION("combined") { meshfit::smooth_mesh(tm, np); }
+  SECTION("combined") { meshfit::smooth_fitted_mesh(tm, np); }
   SECTION("laplacian") { meshfit::laplacian_flow(tm, np.number_of_iterations(100)); }
   SECTION("mean curvature") { meshfit::mean_curvature_flow(tm, np.number_of_iterations(100)); }
   SECTION("modified mean curvature") { meshfit::modified_mean_curvature_flow(tm, np.number_of_iterations(100)); }
@@ -471,7 +471,7 @@ TEST_CASE("smooth: needles, caps and a zero-area face give finite output and no 
       case 4: r = meshfit::modified_laplacian_flow(tm, np); break;
       case 5: r = meshfit::laplacian_flow(tm, mp::laplacian_variant(meshfit::Laplacian_variant::alpha_original,
                                                                     mp::laplacian_weights(meshfit::Laplacian_weights::inverse_distance, np))); break;
-      default: r = meshfit::smooth_mesh(tm); break;
+      default: r = meshfit::smooth_fitted_mesh(tm); break;
     }
     INFO("flow " << kind << ": clamped cotangents " << r.clamped_cotangents << ", steps reduced " << r.steps_reduced);
     CHECK(finite_mesh(tm));
@@ -515,8 +515,8 @@ TEST_CASE("smooth: the same result on Polyhedron_3", "[smooth][generic]") {
   Mesh a = input;
   CGAL::Polyhedron_3<meshfit::Kernel> b;
   meshfit::build_triangle_mesh(meshfit::to_mesh_data(input), b);
-  const auto ra = meshfit::smooth_mesh(a);
-  const auto rb = meshfit::smooth_mesh(b);
+  const auto ra = meshfit::smooth_fitted_mesh(a);
+  const auto rb = meshfit::smooth_fitted_mesh(b);
   CHECK(ra.mean_displacement == rb.mean_displacement);
   const auto pa = meshfit::to_mesh_data(a).points, pb = meshfit::to_mesh_data(b).points;
   REQUIRE(pa.size() == pb.size());
@@ -530,10 +530,10 @@ TEST_CASE("smooth: bad parameters are Invalid_input; a cancelled run leaves the 
   Mesh tm = input;
   meshfit_test::require_invalid([&] { meshfit::laplacian_flow(tm, mp::step_size(0.0)); }, 0, "step_size");
   meshfit_test::require_invalid([&] { meshfit::mean_curvature_flow(tm, mp::step_size(1.5)); }, 0, "step_size");
-  meshfit_test::require_invalid([&] { meshfit::smooth_mesh(tm, mp::step_size(std::nan(""))); }, 0, "step_size");
+  meshfit_test::require_invalid([&] { meshfit::smooth_fitted_mesh(tm, mp::step_size(std::nan(""))); }, 0, "step_size");
   meshfit_test::require_invalid([&] { meshfit::laplacian_flow(tm, CGAL::parameters::number_of_iterations(-1)); }, 0,
                                 "negative");
-  meshfit_test::require_invalid([&] { meshfit::smooth_mesh(tm, mp::laplacian_iterations(-3)); }, 0, "negative");
+  meshfit_test::require_invalid([&] { meshfit::smooth_fitted_mesh(tm, mp::laplacian_iterations(-3)); }, 0, "negative");
   meshfit_test::require_invalid([&] { meshfit::laplacian_flow(tm, mp::laplacian_alpha(1.5)); }, 0, "laplacian_alpha");
   meshfit_test::require_invalid(
       [&] { meshfit::modified_laplacian_flow(tm, mp::reference_points(std::vector<Point_3>(3))); }, 0, "reference_points");
@@ -541,10 +541,10 @@ TEST_CASE("smooth: bad parameters are Invalid_input; a cancelled run leaves the 
   const auto v0 = quad.add_vertex(Point_3(0, 0, 0)), v1 = quad.add_vertex(Point_3(1, 0, 0)),
              v2 = quad.add_vertex(Point_3(1, 1, 0)), v3 = quad.add_vertex(Point_3(0, 1, 0));
   quad.add_face(v0, v1, v2, v3);
-  meshfit_test::require_invalid([&] { meshfit::smooth_mesh(quad); }, 0, "not a triangle");
+  meshfit_test::require_invalid([&] { meshfit::smooth_fitted_mesh(quad); }, 0, "not a triangle");
   Mesh bad = input;
   bad.point(Mesh::Vertex_index(4)) = Point_3(std::nan(""), 0, 0);
-  meshfit_test::require_invalid([&] { meshfit::smooth_mesh(bad); }, 0, "vertex 4");
+  meshfit_test::require_invalid([&] { meshfit::smooth_fitted_mesh(bad); }, 0, "vertex 4");
   CHECK(tm.number_of_vertices() == input.number_of_vertices());
   for (auto v : tm.vertices()) CHECK(tm.point(v) == input.point(v));
 
@@ -557,11 +557,11 @@ TEST_CASE("smooth: bad parameters are Invalid_input; a cancelled run leaves the 
     seen.push_back(s.index);
     return s.index < 5;
   };
-  CHECK_THROWS_AS(meshfit::smooth_mesh(cancelled, mp::progress(stop_at_5)), meshfit::Algorithm_failure);
+  CHECK_THROWS_AS(meshfit::smooth_fitted_mesh(cancelled, mp::progress(stop_at_5)), meshfit::Algorithm_failure);
   CHECK(seen == std::vector<std::size_t>{0, 1, 2, 3, 4, 5});
   for (auto v : cancelled.vertices()) CHECK(cancelled.point(v) == before.point(v));
   // Zero iterations: nothing moves.
-  const auto r = meshfit::smooth_mesh(cancelled, CGAL::parameters::number_of_iterations(0));
+  const auto r = meshfit::smooth_fitted_mesh(cancelled, CGAL::parameters::number_of_iterations(0));
   CHECK(r.iterations == 0);
   CHECK(r.max_displacement == 0);
 }
@@ -571,7 +571,7 @@ TEST_CASE("smooth: CGAL's elephant keeps its volume and shape under the combined
   Mesh tm;
   meshfit::read_triangle_mesh(MESHFIT_CGAL_DATA_DIR "/elephant.off", tm);
   const Mesh input = tm;
-  const auto r = meshfit::smooth_mesh(tm);
+  const auto r = meshfit::smooth_fitted_mesh(tm);
   const double h = mean_edge_length(input);
   const double ratio = CGAL::Polygon_mesh_processing::volume(tm) / CGAL::Polygon_mesh_processing::volume(input);
   INFO("elephant: volume ratio " << ratio << ", mean displacement / h " << r.mean_displacement / h << ", max / h "

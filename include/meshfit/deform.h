@@ -901,7 +901,7 @@ Deformation_report fine_on_surface(TriangleMesh& tm, const Curve_network& networ
   Progress_callback forward = [](const Progress_step&) { return true; };
   if constexpr (!std::is_same_v<decltype(progress), const CGAL::internal_np::Param_not_found>)
     forward = [&progress](const Progress_step& step) {
-      return progress(Progress_step{"deform", "fine: embedding the curves: " + step.step, 1, 4});
+      return internal::call_progress(progress, Progress_step{"deform", "fine: embedding the curves: " + step.step, 1, 4});
     };
 
   auto vpm = internal::vertex_point_map_of(tm, np);
@@ -1199,7 +1199,7 @@ Deformation_report fine_on_surface(TriangleMesh& tm, const Curve_network& networ
     try {
       report.embedding = partition_mesh(
           tm, projected,
-          parameters::progress(forward, CGAL::parameters::edge_is_constrained_map(curve).vertex_is_constrained_map(fixed)));
+          parameters::progress(forward).edge_is_constrained_map(curve).vertex_is_constrained_map(fixed));
     } catch (const Invalid_input& e) {
       // Stage 2 finds network vertices by position: two of them placed nearer to each other than
       // to any other mesh vertex cannot be told apart.

@@ -136,7 +136,7 @@ std::optional<std::size_t> expected_regions(const TriangleMesh& tm, const Curve_
 ///      untangled; with `fine_level(Fine_level::thesis)` the thesis's fine RBF through
 ///      closest-point pairs and flip prevention; thesis ch. 2);
 ///   2. partition_mesh (every segment a chain of mesh edges, regions labelled; ch. 3);
-///   3. smooth_mesh with the curve edges and their vertices held (ch. 4);
+///   3. smooth_fitted_mesh with the curve edges and their vertices held (ch. 4);
 ///   4. verification (Fit_verification): network vertices are mesh vertices, segments are edge
 ///      chains, no flipped (folded) or degenerate face, no self-intersection the template did not
 ///      have (PMP::does_self_intersect), finite coordinates.
@@ -164,9 +164,8 @@ Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& input_n
   using GT = boost::graph_traits<TriangleMesh>;
   const auto t0 = std::chrono::steady_clock::now();
 
-  Progress_callback progress = [](const Progress_step&) { return true; };
-  if constexpr (!std::is_same_v<decltype(get_parameter(np, internal_np::progress)), CGAL::internal_np::Param_not_found>)
-    progress = get_parameter(np, internal_np::progress);
+  // The caller's callback may return void (never cancels) or bool; the stages get one returning bool.
+  const Progress_callback progress = internal::progress_callback(get_parameter(np, internal_np::progress));
   const Rbf_kernel kernel = choose_parameter(get_parameter(np, internal_np::rbf_kernel), Rbf_kernel::linear);
   const Curve_density density =
       choose_parameter(get_parameter(np, internal_np::curve_density), Curve_density::refine);
@@ -204,10 +203,12 @@ Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& input_n
   auto t = std::chrono::steady_clock::now();
   report.deformation = deform_template(
       work, network, pairs,
-      parameters::rbf_kernel(kernel, parameters::curve_density(
-          density, parameters::fine_level(fine_level, parameters::progress(
-                                                          progress, parameters::memory_limit(
-                                                              memory_limit, CGAL::parameters::number_of_iterations(rounds)))))));
+      parameters::rbf_kernel(kernel)
+          .curve_density(density)
+          .fine_level(fine_level)
+          .progress(progress)
+          .memory_limit(memory_limit)
+          .number_of_iterations(rounds));
   report.deform_seconds = internal::seconds_since(t);
   if (report.deformation.orientation_reversed)
     throw Algorithm_failure("deform", orientation_reversal_message(report.deformation.coarse_affine_determinant));
@@ -220,7 +221,7 @@ Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& input_n
   auto curve = get(CGAL::dynamic_edge_property_t<bool>(), work);
   auto region = get(CGAL::dynamic_face_property_t<std::size_t>(), work);
   report.partition = partition_mesh(
-      work, network, parameters::progress(progress, CGAL::parameters::edge_is_constrained_map(curve).face_patch_map(region)));
+      work, network, parameters::progress(progress).edge_is_constrained_map(curve).face_patch_map(region));
   report.partition_seconds = internal::seconds_since(t);
   report.mesh_vertex_of_network_vertex = report.partition.mesh_vertex_of_network_vertex;
 
@@ -234,12 +235,12 @@ Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& input_n
     for (auto w : vertices(work)) put(pinned, w, bool(is_network[i++]));
   }
   if (mc_iterations + lap_iterations > 0)
-    report.smoothing = smooth_mesh(
-        work, parameters::mean_curvature_iterations(
-                  mc_iterations, parameters::laplacian_iterations(
-                                     lap_iterations, parameters::step_size(
-                                                         step, parameters::progress(
-                                                                   progress, CGAL::parameters::edge_is_constrained_map(curve).vertex_is_constrained_map(pinned))))));
+    report.smoothing = smooth_fitted_mesh(work, parameters::mean_curvature_iterations(mc_iterations)
+                                                    .laplacian_iterations(lap_iterations)
+                                                    .step_size(step)
+                                                    .progress(progress)
+                                                    .edge_is_constrained_map(curve)
+                                                    .vertex_is_constrained_map(pinned));
   // Needles that no vertex motion can mend (a free vertex between two close curve vertices, or
   // two free vertices pressed together) go by flipping edges where the surface is nearly flat.
   report.angle_flips = internal::flip_for_angles(work, wvpm, curve, 20 * CGAL_PI / 180);

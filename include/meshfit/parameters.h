@@ -1,17 +1,22 @@
-// meshfit: named parameters of meshfit's own, chaining with CGAL's.
+// meshfit: named parameters of meshfit's own, chaining with each other and with CGAL's.
 //
-// Every meshfit parameter function comes in two forms:
-//   meshfit::parameters::merge_tolerance(1e-8)                      // starts a pack
+// A pack is started by any meshfit parameter function and read left to right:
+//   meshfit::parameters::rbf_kernel(meshfit::Rbf_kernel::cubic).progress(cb).number_of_iterations(5)
+// Every meshfit tag and every CGAL 5.5 tag (number_of_iterations, vertex_point_map, geom_traits,
+// vertex_is_constrained_map, edge_is_constrained_map, face_patch_map, vertex_index_map, …) is a
+// member function of the pack (meshfit::Named_parameters), which derives from
+// CGAL::Named_function_parameters: CGAL::parameters::get_parameter(np,
+// meshfit::internal_np::rbf_kernel) reads it back and CGAL's own functions accept it.
+// `meshfit::parameters::default_values()` starts an empty pack (to begin a chain with a CGAL tag).
+// Starting from a CGAL pack, the two-argument form adds a meshfit tag (and the result chains on):
 //   meshfit::parameters::merge_tolerance(1e-8, CGAL::parameters::number_of_iterations(5))
-// and the pack it returns is a CGAL::Named_function_parameters, so CGAL's parameters chain after
-// it (`.number_of_iterations(5)`), and CGAL::parameters::get_parameter(np,
-// meshfit::internal_np::merge_tolerance) reads it back.
 //
 // The tags, their types and defaults:
 //   | tag               | type                                    | default                        |
 //   |-------------------|-----------------------------------------|--------------------------------|
 //   | merge_tolerance   | double, relative to the bbox diagonal   | 1e-9                           |
-//   | progress          | callable bool(const Progress_step&)     | none (never cancels)           |
+//   | progress          | callable (const Progress_step&), returns| none (never cancels)           |
+//   |                   | bool (false cancels) or void            |                                |
 //   | input_file_name   | std::string, used in error messages     | the path read, or "<stream>"   |
 //   | rbf_kernel        | meshfit::Rbf_kernel                     | Rbf_kernel::linear (φ(r) = r)  |
 //   | curve_density     | meshfit::Curve_density                  | Curve_density::refine          |
@@ -21,8 +26,8 @@
 //   | laplacian_variant | meshfit::Laplacian_variant (eq. 4.5/4.6)| Laplacian_variant::none        |
 //   | laplacian_alpha   | double α in [0, 1] (eq. 4.5/4.6)        | 0.5                            |
 //   | reference_points  | std::vector<Point_3>, one per vertex    | the positions at the call      |
-//   | mean_curvature_iterations | smooth_mesh's first phase       | number_of_iterations / 5 (20)  |
-//   | laplacian_iterations      | smooth_mesh's second phase      | the rest (80)                  |
+//   | mean_curvature_iterations | smooth_fitted_mesh's 1st phase  | number_of_iterations / 5 (20)  |
+//   | laplacian_iterations      | smooth_fitted_mesh's 2nd phase  | the rest (80)                  |
 //   | check_self_intersections  | bool: fit's final verification | true                           |
 //   | fine_level        | meshfit::Fine_level (deform.h)          | Fine_level::surface            |
 //   | memory_limit      | std::size_t, bytes (memory_limit.h)     | default_memory_limit(): RAM / 8|
@@ -37,75 +42,139 @@
 #include <cstddef>
 #include <functional>
 #include <string>
+#include <type_traits>
 
 namespace meshfit {
 
-/// One step of a stage, passed to the `progress` callback. Returning `false` from the callback
-/// cancels the stage cleanly (it throws meshfit::Algorithm_failure naming the stage).
+/// One step of a stage, passed to the `progress` callback. A callback returning `bool` cancels the
+/// stage cleanly by returning `false` (the stage throws meshfit::Algorithm_failure naming the stage);
+/// a callback returning `void` never cancels.
 struct Progress_step {
   std::string stage;      ///< "read", "deform", "partition", "smooth", …
   std::string step;       ///< what is being done
   std::size_t index = 0;  ///< 0-based step number within the stage
   std::size_t total = 0;  ///< number of steps in the stage, 0 when unknown
 };
+/// The callback type the stages use inside; any callable taking `const Progress_step&` and
+/// returning `bool` or `void` may be passed as the `progress` parameter.
 using Progress_callback = std::function<bool(const Progress_step&)>;
 
+/// The one list of meshfit's named parameters: `X(name)` for each. It generates the tag types and
+/// values (`meshfit::internal_np::name_t`, `name`), the member functions of
+/// meshfit::Named_parameters and the functions of `meshfit::parameters`.
+#define MESHFIT_NAMED_PARAMETERS(X) \
+  X(merge_tolerance)                \
+  X(progress)                       \
+  X(input_file_name)                \
+  X(rbf_kernel)                     \
+  X(curve_density)                  \
+  X(coarse_only)                    \
+  X(step_size)                      \
+  X(laplacian_weights)              \
+  X(laplacian_variant)              \
+  X(laplacian_alpha)                \
+  X(reference_points)               \
+  X(mean_curvature_iterations)      \
+  X(laplacian_iterations)           \
+  X(check_self_intersections)       \
+  X(fine_level)                     \
+  X(memory_limit)
+
 namespace internal_np {
-enum merge_tolerance_t { merge_tolerance };
-enum progress_t { progress };
-enum input_file_name_t { input_file_name };
-enum rbf_kernel_t { rbf_kernel };
-enum curve_density_t { curve_density };
-enum coarse_only_t { coarse_only };
-enum step_size_t { step_size };
-enum laplacian_weights_t { laplacian_weights };
-enum laplacian_variant_t { laplacian_variant };
-enum laplacian_alpha_t { laplacian_alpha };
-enum reference_points_t { reference_points };
-enum mean_curvature_iterations_t { mean_curvature_iterations };
-enum laplacian_iterations_t { laplacian_iterations };
-enum check_self_intersections_t { check_self_intersections };
-enum fine_level_t { fine_level };
-enum memory_limit_t { memory_limit };
+#define MESHFIT_NAMED_PARAMETER_TAG(NAME) enum NAME##_t { NAME };
+MESHFIT_NAMED_PARAMETERS(MESHFIT_NAMED_PARAMETER_TAG)
+#undef MESHFIT_NAMED_PARAMETER_TAG
 }  // namespace internal_np
+
+/// A pack of named parameters whose member functions add any meshfit or CGAL parameter, so that a
+/// pack reads left to right: `meshfit::parameters::rbf_kernel(k).progress(cb).number_of_iterations(5)`.
+/// It is a `CGAL::Named_function_parameters<T, Tag, Base>` (by derivation; the base class and its
+/// `base` type are CGAL's own), so `CGAL::parameters::get_parameter()` and `choose_parameter()`
+/// read it and CGAL's functions accept it (one limit of the derivation: where CGAL overloads a
+/// function on `const CGAL::Named_function_parameters<…>&` against one taking any type in that
+/// place, the pack, not being exactly CGAL's type, may pick the other overload; `cgal_parameters()`
+/// gives the pack as CGAL's type for such a call). `Base` is the rest of the pack: another
+/// meshfit::Named_parameters, a CGAL pack, or `CGAL::internal_np::No_property`.
+template <typename T, typename Tag, typename Base = CGAL::internal_np::No_property>
+struct Named_parameters : CGAL::Named_function_parameters<T, Tag, Base> {
+  /// The CGAL pack this one is (do not name it `base`: CGAL's lookup uses that name).
+  using Cgal_named_parameters = CGAL::Named_function_parameters<T, Tag, Base>;
+  using self = Named_parameters<T, Tag, Base>;
+
+  Named_parameters() : Cgal_named_parameters() {}
+  explicit Named_parameters(const T& value) : Cgal_named_parameters(value) {}
+  Named_parameters(const T& value, const Base& rest) : Cgal_named_parameters(value, rest) {}
+
+  /// This pack as CGAL's own type (the same parameters).
+  const Cgal_named_parameters& cgal_parameters() const { return *this; }
+
+#define MESHFIT_NAMED_PARAMETER_MEMBER(NAME)                                    \
+  template <typename K>                                                         \
+  Named_parameters<K, meshfit::internal_np::NAME##_t, self> NAME(const K& k) const { \
+    return Named_parameters<K, meshfit::internal_np::NAME##_t, self>(k, *this);  \
+  }
+  MESHFIT_NAMED_PARAMETERS(MESHFIT_NAMED_PARAMETER_MEMBER)
+#undef MESHFIT_NAMED_PARAMETER_MEMBER
+
+  // Every CGAL parameter, from CGAL's own list (the one CGAL::Named_function_parameters's members
+  // are made from); these hide the base class's members, which would return a CGAL pack.
+#define CGAL_add_named_parameter(X, Y, Z)                                    \
+  template <typename K>                                                      \
+  Named_parameters<K, CGAL::internal_np::X, self> Z(const K& k) const {      \
+    return Named_parameters<K, CGAL::internal_np::X, self>(k, *this);        \
+  }
+#include <CGAL/STL_Extension/internal/parameters_interface.h>
+#undef CGAL_add_named_parameter
+};
 
 namespace parameters {
 
-/// Generates `name(value)` and `name(value, base_pack)`.
-#define MESHFIT_NAMED_PARAMETER(NAME)                                                          \
-  template <typename T>                                                                        \
-  CGAL::Named_function_parameters<T, meshfit::internal_np::NAME##_t> NAME(const T& value) {    \
-    return CGAL::Named_function_parameters<T, meshfit::internal_np::NAME##_t>(value);          \
-  }                                                                                            \
-  template <typename T, typename BT, typename BTag, typename BBase>                            \
-  CGAL::Named_function_parameters<T, meshfit::internal_np::NAME##_t,                           \
-                                  CGAL::Named_function_parameters<BT, BTag, BBase>>            \
-  NAME(const T& value, const CGAL::Named_function_parameters<BT, BTag, BBase>& base) {         \
-    return CGAL::Named_function_parameters<T, meshfit::internal_np::NAME##_t,                  \
-                                           CGAL::Named_function_parameters<BT, BTag, BBase>>(  \
-        value, base);                                                                          \
+/// An empty meshfit pack, to begin a chain with a CGAL parameter:
+/// `meshfit::parameters::default_values().number_of_iterations(5).progress(cb)`.
+inline Named_parameters<bool, CGAL::internal_np::all_default_t> default_values() {
+  return Named_parameters<bool, CGAL::internal_np::all_default_t>();
+}
+
+/// Generates, for each meshfit parameter, `name(value)` (starts a pack) and `name(value, pack)`
+/// (adds it to a CGAL or meshfit pack; kept from the nesting form, the result chains on).
+#define MESHFIT_NAMED_PARAMETER_FUNCTIONS(NAME)                                                         \
+  template <typename T>                                                                                 \
+  Named_parameters<T, meshfit::internal_np::NAME##_t> NAME(const T& value) {                            \
+    return Named_parameters<T, meshfit::internal_np::NAME##_t>(value);                                  \
+  }                                                                                                     \
+  template <typename T, typename BT, typename BTag, typename BBase>                                     \
+  Named_parameters<T, meshfit::internal_np::NAME##_t, CGAL::Named_function_parameters<BT, BTag, BBase>> \
+  NAME(const T& value, const CGAL::Named_function_parameters<BT, BTag, BBase>& base) {                  \
+    return Named_parameters<T, meshfit::internal_np::NAME##_t,                                          \
+                            CGAL::Named_function_parameters<BT, BTag, BBase>>(value, base);             \
+  }                                                                                                     \
+  template <typename T, typename BT, typename BTag, typename BBase>                                     \
+  Named_parameters<T, meshfit::internal_np::NAME##_t, Named_parameters<BT, BTag, BBase>> NAME(          \
+      const T& value, const Named_parameters<BT, BTag, BBase>& base) {                                  \
+    return Named_parameters<T, meshfit::internal_np::NAME##_t, Named_parameters<BT, BTag, BBase>>(value, \
+                                                                                                base);  \
   }
-
-MESHFIT_NAMED_PARAMETER(merge_tolerance)
-MESHFIT_NAMED_PARAMETER(progress)
-MESHFIT_NAMED_PARAMETER(input_file_name)
-MESHFIT_NAMED_PARAMETER(rbf_kernel)
-MESHFIT_NAMED_PARAMETER(curve_density)
-MESHFIT_NAMED_PARAMETER(coarse_only)
-MESHFIT_NAMED_PARAMETER(step_size)
-MESHFIT_NAMED_PARAMETER(laplacian_weights)
-MESHFIT_NAMED_PARAMETER(laplacian_variant)
-MESHFIT_NAMED_PARAMETER(laplacian_alpha)
-MESHFIT_NAMED_PARAMETER(reference_points)
-MESHFIT_NAMED_PARAMETER(mean_curvature_iterations)
-MESHFIT_NAMED_PARAMETER(laplacian_iterations)
-MESHFIT_NAMED_PARAMETER(check_self_intersections)
-MESHFIT_NAMED_PARAMETER(fine_level)
-MESHFIT_NAMED_PARAMETER(memory_limit)
-
-#undef MESHFIT_NAMED_PARAMETER
+MESHFIT_NAMED_PARAMETERS(MESHFIT_NAMED_PARAMETER_FUNCTIONS)
+#undef MESHFIT_NAMED_PARAMETER_FUNCTIONS
 
 }  // namespace parameters
 }  // namespace meshfit
+
+namespace CGAL {
+
+template <typename PolygonMesh, typename NamedParametersGT, typename NamedParametersVPM>
+class GetGeomTraits;
+
+/// As CGAL does for its own packs (CGAL/Polygon_mesh_processing/measure.h): where an overload
+/// takes the pack's place for a mesh (`PMP::area(tm, np)` also matches `area(face_range, tm)` with
+/// the pack as the mesh), the geometric traits of a pack must fail substitution quietly instead of
+/// instantiating a property map of the pack.
+template <typename T, typename Tag, typename Base, typename NamedParametersGT, typename NamedParametersVPM>
+class GetGeomTraits<meshfit::Named_parameters<T, Tag, Base>, NamedParametersGT, NamedParametersVPM> {
+ public:
+  struct type {};
+};
+
+}  // namespace CGAL
 
 #endif  // MESHFIT_PARAMETERS_H

@@ -8,7 +8,7 @@
 //                                              iteration's surface
 //   modified_laplacian_flow       eq. 4.10, 4.11, 4.13  the step is projected onto the surface
 //                                              before smoothing (each vertex stays on it)
-//   smooth_mesh                   §4.3: modified mean curvature, then modified Laplacian
+//   smooth_fitted_mesh            §4.3: modified mean curvature, then modified Laplacian
 //
 // Every function works on any triangle mesh (`TriangleMesh`, a model of FaceListGraph with a
 // vertex point map of 3D points), never changes its connectivity, and returns a
@@ -61,6 +61,7 @@
 
 #include <meshfit/exceptions.h>
 #include <meshfit/internal/format_number.h>
+#include <meshfit/internal/stage_support.h>
 #include <meshfit/internal/triangle_corners.h>
 #include <meshfit/kernel.h>
 #include <meshfit/parameters.h>
@@ -101,9 +102,9 @@ enum class Laplacian_variant {
 
 /// What a smoothing call did.
 struct Smoothing_report {
-  std::size_t iterations = 0;             ///< iterations run (both phases for smooth_mesh)
-  std::size_t mean_curvature_iterations = 0;  ///< smooth_mesh: iterations of the first phase
-  std::size_t laplacian_iterations = 0;       ///< smooth_mesh: iterations of the second phase
+  std::size_t iterations = 0;             ///< iterations run (both phases for smooth_fitted_mesh)
+  std::size_t mean_curvature_iterations = 0;  ///< smooth_fitted_mesh: iterations of the first phase
+  std::size_t laplacian_iterations = 0;       ///< smooth_fitted_mesh: iterations of the second phase
   std::size_t vertices = 0;
   std::size_t fixed_vertices = 0;         ///< never moved (constrained, boundary, curve vertices)
   double mean_displacement = 0;           ///< mean over all vertices of |p_final − p_initial|
@@ -131,7 +132,7 @@ struct Smoothing_arrays {
   /// the positions at the start of the flow.
   std::vector<double> reference_points;
   /// Positions (x y z per vertex) against which the flip guard also judges faces; empty: the
-  /// positions at the start of the flow (smooth_mesh sets them so that its two phases together
+  /// positions at the start of the flow (smooth_fitted_mesh sets them so that its two phases together
   /// reverse no face of the input).
   std::vector<double> orientation_points;
 };
@@ -145,7 +146,7 @@ struct Flow_settings {
   double alpha = 0.5;
   /// Called before iteration `index` (0-based) of `total`; returning false cancels.
   std::function<bool(std::size_t index, std::size_t total)> on_iteration;
-  std::size_t progress_offset = 0, progress_total = 0;  ///< smooth_mesh numbers both phases together
+  std::size_t progress_offset = 0, progress_total = 0;  ///< smooth_fitted_mesh numbers both phases together
 };
 
 /// The compiled core (src/smooth.cpp): runs the flow on the arrays, in place. The report's
@@ -200,7 +201,7 @@ Flow_settings flow_settings(const NamedParameters& np, Flow_kind kind, std::size
   auto progress = get_parameter(np, meshfit::internal_np::progress);
   if constexpr (!std::is_same_v<decltype(progress), CGAL::internal_np::Param_not_found>) {
     s.on_iteration = [progress](std::size_t index, std::size_t total) {
-      return static_cast<bool>(progress(Progress_step{"smooth", "iteration", index, total}));
+      return call_progress(progress, Progress_step{"smooth", "iteration", index, total});
     };
   }
   return s;
@@ -213,9 +214,11 @@ struct Smoothing_front_end {
   using vertex_descriptor = typename GT::vertex_descriptor;
 
   TriangleMesh& tm;
-  decltype(CGAL::parameters::choose_parameter(
+  // A copy of the map (decayed: choose_parameter returns a reference to get_parameter's temporary
+  // when the caller gives a vertex_point_map).
+  std::decay_t<decltype(CGAL::parameters::choose_parameter(
       CGAL::parameters::get_parameter(std::declval<const NamedParameters&>(), CGAL::internal_np::vertex_point),
-      get_property_map(CGAL::vertex_point, std::declval<TriangleMesh&>()))) vpm;
+      get_property_map(CGAL::vertex_point, std::declval<TriangleMesh&>())))> vpm;
   std::vector<vertex_descriptor> vertex;
   Smoothing_arrays arrays;
 
@@ -366,8 +369,12 @@ Smoothing_report modified_laplacian_flow(TriangleMesh& tm,
 /// stretch the triangles along the cotangent weights' tangential drift, which the Laplacian
 /// phase then has to undo (measured: 20/80 keeps 98.9% of the sphere's volume, 50/50 98.4%).
 /// \throws as laplacian_flow.
+/// Named `smooth_fitted_mesh`, not `smooth_mesh`: with `using namespace meshfit;` and `using
+/// namespace CGAL::Polygon_mesh_processing;` a `smooth_mesh(tm)` call was ambiguous with CGAL's
+/// (deprecated) `PMP::smooth_mesh`, and `smooth_mesh(tm, CGAL::parameters::…)` silently called
+/// CGAL's. No `meshfit::smooth_mesh` alias is kept: any function of that name would clash again.
 template <typename TriangleMesh, typename NamedParameters = CGAL::parameters::Default_named_parameters>
-Smoothing_report smooth_mesh(TriangleMesh& tm, const NamedParameters& np = CGAL::parameters::default_values()) {
+Smoothing_report smooth_fitted_mesh(TriangleMesh& tm, const NamedParameters& np = CGAL::parameters::default_values()) {
   using CGAL::parameters::choose_parameter;
   using CGAL::parameters::get_parameter;
   const auto t0 = std::chrono::steady_clock::now();

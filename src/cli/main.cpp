@@ -677,11 +677,13 @@ int run_deform(const Command_line& cl) {
   try {
     r = meshfit::deform_template(
         tm, network, pairs,
-        meshfit::parameters::rbf_kernel(kernel, meshfit::parameters::curve_density(
-            density, meshfit::parameters::fine_level(options.fine_level, meshfit::parameters::coarse_only(
-                cl.coarse_only, meshfit::parameters::progress(
-                    progress, meshfit::parameters::memory_limit(
-                        options.memory_limit, CGAL::parameters::number_of_iterations(rounds))))))));
+        meshfit::parameters::rbf_kernel(kernel)
+            .curve_density(density)
+            .fine_level(options.fine_level)
+            .coarse_only(cl.coarse_only)
+            .progress(progress)
+            .memory_limit(options.memory_limit)
+            .number_of_iterations(rounds));
   } catch (const meshfit::Numerical_error& e) {
     failure = e.what();
   } catch (const meshfit::Algorithm_failure& e) {
@@ -756,8 +758,9 @@ int run_partition(const Command_line& cl) {
   auto region = tm.add_property_map<Mesh::Face_index, int>("f:meshfit_region", 0).first;
   meshfit::Partition_report r;
   try {
-    r = meshfit::partition_mesh(tm, network, meshfit::parameters::progress(progress_printer(),
-        CGAL::parameters::edge_is_constrained_map(curve).face_patch_map(region)));
+    r = meshfit::partition_mesh(
+        tm, network,
+        meshfit::parameters::progress(progress_printer()).edge_is_constrained_map(curve).face_patch_map(region));
   } catch (const meshfit::Invalid_input& e) {
     // A network vertex that is not a mesh vertex: name the files.
     throw meshfit::Invalid_input(meshfit::Input_location{curves_path, 0, meshfit::Input_location::no_offset},
@@ -892,13 +895,12 @@ int run_smooth(const Command_line& cl) {
   meshfit::Smoothing_report r;
   std::string failure;
   try {
-    r = meshfit::smooth_mesh(
-        tm, meshfit::parameters::mean_curvature_iterations(
-                mc, meshfit::parameters::laplacian_iterations(
-                        lap, meshfit::parameters::step_size(
-                                 step, meshfit::parameters::progress(
-                                           progress, CGAL::parameters::edge_is_constrained_map(curve)
-                                                         .vertex_is_constrained_map(pinned))))));
+    r = meshfit::smooth_fitted_mesh(tm, meshfit::parameters::mean_curvature_iterations(mc)
+                                            .laplacian_iterations(lap)
+                                            .step_size(step)
+                                            .progress(progress)
+                                            .edge_is_constrained_map(curve)
+                                            .vertex_is_constrained_map(pinned));
   } catch (const meshfit::Numerical_error& e) {
     failure = e.what();
   }
@@ -1003,15 +1005,18 @@ int run_fit(const Command_line& cl) {
   try {
     r = meshfit::fit_template_to_curves(
         in.tm, in.network, in.pairs,
-        meshfit::parameters::rbf_kernel(d.kernel, meshfit::parameters::fine_level(d.fine_level, meshfit::parameters::curve_density(
-            d.density, meshfit::parameters::mean_curvature_iterations(
-                so.mean_curvature_iterations, meshfit::parameters::laplacian_iterations(
-                    so.laplacian_iterations, meshfit::parameters::step_size(
-                        so.step, meshfit::parameters::check_self_intersections(
-                            !cl.no_self_intersection_check, meshfit::parameters::progress(
-                                progress_printer(), meshfit::parameters::memory_limit(
-                                    d.memory_limit, CGAL::parameters::number_of_iterations(d.rounds)
-                                    .edge_is_constrained_map(curve).face_patch_map(region)))))))))));
+        meshfit::parameters::rbf_kernel(d.kernel)
+            .fine_level(d.fine_level)
+            .curve_density(d.density)
+            .mean_curvature_iterations(so.mean_curvature_iterations)
+            .laplacian_iterations(so.laplacian_iterations)
+            .step_size(so.step)
+            .check_self_intersections(!cl.no_self_intersection_check)
+            .progress(progress_printer())
+            .memory_limit(d.memory_limit)
+            .number_of_iterations(d.rounds)
+            .edge_is_constrained_map(curve)
+            .face_patch_map(region));
   } catch (const meshfit::Numerical_error& e) {
     failure = e.what();
     stage = pending_report.stage;

@@ -13,6 +13,7 @@
 #include <chrono>
 #include <cstddef>
 #include <type_traits>
+#include <utility>
 
 namespace meshfit {
 namespace internal {
@@ -21,12 +22,39 @@ inline double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+/// Calls a progress callback with `step`; `false` means cancel. The callback may return `bool` (or
+/// anything convertible to it) or `void` (never cancels).
+template <typename Callback>
+bool call_progress(const Callback& callback, const Progress_step& step) {
+  static_assert(std::is_invocable_v<const Callback&, const Progress_step&>,
+                "meshfit: the progress callback must be callable with a const meshfit::Progress_step&");
+  using Result = std::invoke_result_t<const Callback&, const Progress_step&>;
+  if constexpr (std::is_void_v<Result>) {
+    callback(step);
+    return true;
+  } else {
+    static_assert(std::is_constructible_v<bool, Result>,
+                  "meshfit: the progress callback must return void or a value convertible to bool");
+    return static_cast<bool>(callback(step));
+  }
+}
+
+/// The `progress` named parameter (the result of get_parameter) as a Progress_callback: one that
+/// never cancels when it is not given, `true` for every step of a callback returning `void`.
+template <typename Progress>
+Progress_callback progress_callback(const Progress& progress) {
+  if constexpr (std::is_same_v<Progress, CGAL::internal_np::Param_not_found>)
+    return [](const Progress_step&) { return true; };
+  else
+    return [progress](const Progress_step& step) { return call_progress(progress, step); };
+}
+
 /// Calls the `progress` named parameter, if given; a `false` answer cancels the stage.
 template <typename Progress>
 void report_progress(const Progress& progress, const char* stage, const char* step, std::size_t index,
                      std::size_t total) {
   if constexpr (!std::is_same_v<Progress, CGAL::internal_np::Param_not_found>) {
-    if (!progress(Progress_step{stage, step, index, total}))
+    if (!call_progress(progress, Progress_step{stage, step, index, total}))
       throw Algorithm_failure(stage, "cancelled by the progress callback");
   }
 }
