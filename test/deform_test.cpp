@@ -618,3 +618,20 @@ TEST_CASE("deform: a template with fewer than twice the network's vertices is su
   // The user's pairs keep their template vertices: vertex i of the result is template vertex i.
   for (const auto& p : e.pairs) CHECK(e.tm.point(Mesh::Vertex_index(static_cast<Mesh::size_type>(p.template_vertex))) == e.network.point(p.network_vertex));
 }
+
+TEST_CASE("deform: curves sampled far more densely than the template's edges are refused at once, with the figures",
+          "[deform][example][surface][dense]") {
+  // The example network cut x70 (15 400 network vertices): two subdivisions of the example sphere
+  // still leave segments an eleventh of an edge long.
+  Example e = densified_example(70);
+  try {
+    meshfit::deform_template(e.tm, e.network, e.pairs);
+    FAIL("curves sampled 70 times more densely than the template's edges were accepted");
+  } catch (const meshfit::Algorithm_failure& f) {
+    const std::string m = f.what();
+    CHECK_THAT(m, Catch::Contains("times more densely than the template's edges after 2 midpoint subdivisions"));
+    CHECK_THAT(m, Catch::Contains("sample the curves more sparsely"));
+  }
+  // Refused before the fine level (the figures say so: the fine level never ran).
+  CHECK(e.tm.number_of_vertices() == 40962);
+}

@@ -682,7 +682,8 @@ void analytic_family(Battery& bat) {
           c.regions_note = "E - V + 1 + C (closed genus 0)";
           c.note = std::string("curve spacing ") + std::to_string(factor) + " x template edge";
           c.quick = (c.name == "ico162-superellipsoid-great" || c.name == "ico2562-bumpy-latlong" ||
-                     c.name == "ico2562-peanut-great" || c.name == "ico2562-superellipsoid-latlong-dense3");
+                     c.name == "ico2562-peanut-great" || c.name == "ico2562-superellipsoid-latlong-dense3" ||
+                     c.name == "ico2562-bumpy-latlong-dense10");
           bat.cases.push_back(std::move(c));
         }
       }

@@ -1450,18 +1450,24 @@ Deformation_report fine_on_surface(TriangleMesh& tm, const Curve_network& networ
       if (flipped.empty()) break;
     }
   };
-  // The displacement is applied in four equal parts, untangling after each: a tangle is repaired
-  // while it is small, before the rest of the motion makes it large (on the battery's
-  // ico2562-superellipsoid-latlong-dense10: exit 3 with one face turned over in one step, clean
-  // in four).
-  constexpr std::size_t steps = 4;
-  for (std::size_t step = 1; step <= steps; ++step) {
-    const double t = static_cast<double>(step) / static_cast<double>(steps);
-    for (std::size_t i = 0; i < n; ++i)
-      after[i] = constrained[i] ? (step == steps ? goal[i] : before[i] + t * given[i]) : after[i] + d[i] / static_cast<double>(steps);
-    flipped = bad_faces();
-    if (step == 1) report.flips_found = flipped.size();
-    if (!flipped.empty()) untangle_around_bad();
+  // When the whole motion leaves bad faces, it is made again in four equal parts, untangling
+  // after each: a tangle is repaired while it is small, before the rest of the motion makes it
+  // large (on the battery's ico2562-superellipsoid-latlong-dense10: exit 3 with one face turned
+  // over in one step, clean in four).
+  for (std::size_t i = 0; i < n; ++i) after[i] = constrained[i] ? goal[i] : before[i] + d[i];
+  flipped = bad_faces();
+  report.flips_found = flipped.size();
+  if (!flipped.empty()) {
+    constexpr std::size_t steps = 4;
+    after = before;
+    for (std::size_t step = 1; step <= steps; ++step) {
+      const double t = static_cast<double>(step) / static_cast<double>(steps);
+      for (std::size_t i = 0; i < n; ++i)
+        after[i] = constrained[i] ? (step == steps ? goal[i] : before[i] + t * given[i])
+                                  : after[i] + d[i] / static_cast<double>(steps);
+      flipped = bad_faces();
+      if (!flipped.empty()) untangle_around_bad();
+    }
   }
   report.flip_rounds = 1;
   // 4b. Relaxation pulls vertices towards their neighbours' mean, which also shrinks what it
@@ -1653,7 +1659,8 @@ Deformation_report fine_on_surface(TriangleMesh& tm, const Curve_network& networ
 ///      where that insertion refuses;
 ///   3. the network vertices are moved onto their points, the inner vertices of each chain onto
 ///      the segment, and every other vertex by the thin-plate displacement field through those
-///      motions (interpolate_displacements);
+///      motions (interpolate_displacements); when that leaves faces turned over or folded, the
+///      motion is made again in four equal parts, with step 4a's untangling after each;
 ///   4. faces that turn over against the coarse surface's normals, or fold with a neighbour,
 ///      are repaired: the free vertices around them are relaxed towards their neighbours' mean
 ///      (up to 3 rings, for at most `number_of_iterations` rounds, default 10, the best state
@@ -1813,6 +1820,34 @@ namespace internal {
 /// The largest template that deform_template's subdivision makes.
 constexpr std::size_t max_subdivided_faces = 2000000;
 
+/// Curves sampled far more densely than the (subdivided, coarsely placed) template's edges would
+/// put rows of network vertices a fraction of an edge apart into its faces: needles that fold,
+/// found only after a long run. Refused when the median segment is shorter than an eighth of the
+/// mean edge (lengths in the curves' frame, after the coarse level).
+template <typename TriangleMesh, typename VPM>
+void refuse_oversampled_curves(const TriangleMesh& tm, const VPM& vpm, const Curve_network& network,
+                               std::size_t subdivisions) {
+  double edge = 0;
+  for (auto e : edges(tm)) edge += std::sqrt(CGAL::squared_distance(point_of<TriangleMesh>(vpm, source(e, tm)),
+                                                                    point_of<TriangleMesh>(vpm, target(e, tm))));
+  edge /= static_cast<double>(std::max<std::size_t>(num_edges(tm), 1));
+  std::vector<double> lengths;
+  for (const auto& sk : network.segments())
+    lengths.push_back(std::sqrt(CGAL::squared_distance(network.point(sk[0]), network.point(sk[1]))));
+  if (lengths.empty()) return;
+  std::nth_element(lengths.begin(), lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 2), lengths.end());
+  const double median = lengths[lengths.size() / 2];
+  if (!(median > 0 && median * 8 < edge)) return;
+  std::ostringstream os;
+  os.precision(3);
+  os << "the curves are sampled " << edge / median << " times more densely than the template's edges";
+  if (subdivisions > 0) os << " after " << subdivisions << " midpoint subdivision" << (subdivisions > 1 ? "s" : "");
+  os << " (median segment " << median << ", mean edge " << edge
+     << "): every network vertex becomes a mesh vertex, and rows of them inside single faces fold; sample the "
+        "curves more sparsely (a point or two per template edge is enough), or give a finer template";
+  throw Algorithm_failure("deform", os.str());
+}
+
 /// deform_template on the inputs as they are.
 template <typename TriangleMesh, typename NamedParameters>
 Deformation_report deform_template_unscaled(TriangleMesh& tm, const Curve_network& network,
@@ -1827,18 +1862,19 @@ Deformation_report deform_template_unscaled(TriangleMesh& tm, const Curve_networ
   // (before the coarse level, so that the new vertices follow the RBF rather than the chords),
   // at most three times and to at most max_subdivided_faces faces.
   std::size_t subdivisions = 0;
-  if (level == Fine_level::surface && density == Curve_density::refine && !coarse_only) {
+  const bool surface_refined = level == Fine_level::surface && density == Curve_density::refine && !coarse_only;
+  if (surface_refined) {
     check_pairs(pairs, num_vertices(tm), num_faces(tm), network);
-    const auto vpm = vertex_point_map_of(tm, np);
     while (subdivisions < 3 && num_vertices(tm) < 2 * network.number_of_vertices() &&
            4 * num_faces(tm) <= max_subdivided_faces) {
-      subdivide_at_midpoints(tm, vpm);
+      subdivide_at_midpoints(tm, vertex_point_map_of(tm, np));
       ++subdivisions;
     }
   }
   Deformation_report coarse = deform_coarse(tm, network, pairs, np);
   coarse.template_subdivisions = subdivisions;
   if (coarse.orientation_reversed || coarse_only) return coarse;
+  if (surface_refined) refuse_oversampled_curves(tm, vertex_point_map_of(tm, np), network, subdivisions);
   Deformation_report fine = level == Fine_level::surface ? deform_fine_on_surface(tm, network, pairs, np)
                                                          : deform_fine(tm, network, pairs, np);
   fine.coarse_fit = coarse.coarse_fit;
