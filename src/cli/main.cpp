@@ -577,7 +577,20 @@ void write_output(const Command_line& cl, const meshfit::Mesh_data& out, const s
                                   {"vertex_in_mesh", r.vertex_in_full}});
     const std::string index_path = regions_index_path(dir);
     meshfit::check_output_path(index_path, options.protected_paths);
-    const std::string text = index.dump(1, ' ', false, Json::error_handler_t::replace) + "\n";
+    // One line per region (its vertex map can be long), the rest as the report is laid out.
+    std::string text = "{\n";
+    for (auto it = index.begin(); it != index.end(); ++it) {
+      text += "  " + Json(it.key()).dump() + ": ";
+      if (it.key() != "regions") {
+        text += it.value().dump(-1, ' ', false, Json::error_handler_t::replace) + ",\n";
+        continue;
+      }
+      text += "[";
+      for (std::size_t k = 0; k < it.value().size(); ++k)
+        text += std::string(k ? "," : "") + "\n    " + it.value()[k].dump(-1, ' ', false, Json::error_handler_t::replace);
+      text += "\n  ]\n";
+    }
+    text += "}\n";
     meshfit::internal::write_file_atomically(index_path, [&](std::ostream& os) { os << text; });
     if (!cl.quiet)
       std::cerr << "meshfit: " << cl.command << ": wrote " << regions.size() << " region meshes and " << index_path
