@@ -28,9 +28,19 @@ Polygon_soup parse_off_impl(std::string_view text, const std::string& name) {
   if (head.size() < 3 || head.substr(head.size() - 3) != "OFF")
     in.fail("expected an OFF header (OFF, COFF, NOFF, STOFF, …), found " + quote(head));
   std::string_view prefix = head.substr(0, head.size() - 3);
-  if (prefix.substr(0, 2) == "ST") prefix.remove_prefix(2);
-  if (!prefix.empty() && prefix.front() == 'C') prefix.remove_prefix(1);
-  if (!prefix.empty() && prefix.front() == 'N') prefix.remove_prefix(1);
+  const bool plain = prefix.empty();
+  if (prefix.substr(0, 2) == "ST") {
+    prefix.remove_prefix(2);
+    soup.drop("texture coordinates (STOFF)");
+  }
+  if (!prefix.empty() && prefix.front() == 'C') {
+    prefix.remove_prefix(1);
+    soup.drop("vertex colours (COFF)");
+  }
+  if (!prefix.empty() && prefix.front() == 'N') {
+    prefix.remove_prefix(1);
+    soup.drop("vertex normals (NOFF)");
+  }
   if (!prefix.empty() && (prefix.front() == '4' || prefix.front() == 'n'))
     in.fail("OFF files of dimension other than 3 (" + quote(head) + ") are not supported");
   if (!prefix.empty()) in.fail("unknown OFF header " + quote(head));
@@ -62,6 +72,7 @@ Polygon_soup parse_off_impl(std::string_view text, const std::string& name) {
                              in.to_double(t[1], "y coordinate"),
                              in.to_double(t[2], "z coordinate"));
     for (std::size_t k = 3; k < t.size(); ++k) in.to_double(t[k], "vertex attribute");
+    if (plain && t.size() > 3) soup.drop("vertex values after x y z (colours)");
   }
   for (std::uint64_t f = 0; f < nf; ++f) {
     if (!in.next())
@@ -78,6 +89,7 @@ Polygon_soup parse_off_impl(std::string_view text, const std::string& name) {
               " vertices but the line has " + std::to_string(t.size() - 1) + " values");
     for (std::size_t k = 1; k <= n; ++k) soup.corners.push_back(in.to_unsigned(t[k], "vertex index"));
     for (std::size_t k = n + 1; k < t.size(); ++k) in.to_double(t[k], "face colour");
+    if (t.size() > n + 1) soup.drop("face colours (values after the indices)");
     soup.end_polygon(in.line_number());
   }
   if (in.next())
@@ -132,6 +144,12 @@ Polygon_soup parse_obj_impl(std::string_view text, const std::string& name) {
                                in.to_double(t[2], "y coordinate"),
                                in.to_double(t[3], "z coordinate"));
       for (std::size_t k = 4; k < t.size(); ++k) in.to_double(t[k], "vertex attribute");
+      if (t.size() == 5) soup.drop("vertex weights (v x y z w)");
+      if (t.size() >= 7) soup.drop("vertex colours (v x y z r g b)");
+    } else if (key == "vt") {
+      soup.drop("texture coordinates (vt)");
+    } else if (key == "vn") {
+      soup.drop("vertex normals (vn)");
     } else if (key == "f") {
       for (std::size_t k = 1; k < t.size(); ++k) soup.corners.push_back(resolve(t[k], "vertex index"));
       soup.end_polygon(in.line_number());

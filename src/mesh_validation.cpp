@@ -226,6 +226,7 @@ Mesh_data validate_polygon_soup(const Polygon_soup& soup, Mesh_read_report* repo
     report->polygons_read = np;
     report->polygons_triangulated = triangulated;
     report->unflagged_edges_ignored = soup.ignored_edges;
+    report->dropped_attributes = soup.dropped_attributes;
     for (std::size_t t = 0; t < nt; ++t) {
       const auto& tri = mesh.triangles[t];
       if (CGAL::collinear(mesh.points[tri[0]], mesh.points[tri[1]], mesh.points[tri[2]]))

@@ -7,10 +7,14 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <ostream>
 #include <sstream>
+
+#include <unistd.h>
 
 namespace meshfit {
 
@@ -28,9 +32,11 @@ Mesh_format mesh_format_of(const std::string& path) {
   if (ext == "stl") return Mesh_format::stl;
   if (ext == "vtp") return Mesh_format::vtp;
   if (ext == "vtk") return Mesh_format::vtk;
+  if (ext == "ase") return Mesh_format::ase;
   throw Invalid_input(Input_location{path, 0, Input_location::no_offset},
                       "unknown mesh format " + internal::quote(ext) +
-                          "; expected .off, .obj, .ply or .stl (or, for outputs, .vtp or .vtk)");
+                          "; expected .off, .obj, .ply or .stl (or, for outputs, .vtp or .vtk; for "
+                          "templates, .ase)");
 }
 
 const char* to_string(Mesh_format format) {
@@ -41,8 +47,22 @@ const char* to_string(Mesh_format format) {
     case Mesh_format::stl: return "STL";
     case Mesh_format::vtp: return "VTP";
     case Mesh_format::vtk: return "VTK";
+    case Mesh_format::ase: return "ASE";
   }
   return "?";
+}
+
+const char* extension_of(Mesh_format format) {
+  switch (format) {
+    case Mesh_format::off: return "off";
+    case Mesh_format::obj: return "obj";
+    case Mesh_format::ply: return "ply";
+    case Mesh_format::stl: return "stl";
+    case Mesh_format::vtp: return "vtp";
+    case Mesh_format::vtk: return "vtk";
+    case Mesh_format::ase: return "ase";
+  }
+  return "";
 }
 
 Mesh_data parse_mesh_data(const std::string& content, Mesh_format format, const std::string& name,
@@ -53,11 +73,12 @@ Mesh_data parse_mesh_data(const std::string& content, Mesh_format format, const 
     case Mesh_format::obj: soup = internal::parse_obj(content, name); break;
     case Mesh_format::ply: soup = internal::parse_ply(content, name); break;
     case Mesh_format::stl: soup = internal::parse_stl(content, name); break;
+    case Mesh_format::ase: soup = internal::parse_ase(content, name); break;
     case Mesh_format::vtp:
     case Mesh_format::vtk:
       throw Invalid_input(Input_location{name, 0, Input_location::no_offset},
                           std::string(to_string(format)) +
-                              " is an output format only: read meshes from .off, .obj, .ply or .stl");
+                              " is an output format only: read meshes from .off, .obj, .ply, .stl or .ase");
   }
   if (report) {
     *report = Mesh_read_report();
@@ -308,6 +329,8 @@ void write_mesh_data(std::ostream& out, Mesh_format format, const Mesh_data& mes
     case Mesh_format::stl: write_stl(out, mesh); break;
     case Mesh_format::vtp: write_vtp(out, mesh); break;
     case Mesh_format::vtk: write_vtk(out, mesh); break;
+    case Mesh_format::ase:
+      throw Invalid_input("ASE is an input format only: write meshes as .off, .obj, .ply, .stl, .vtp or .vtk");
   }
 }
 
@@ -320,6 +343,9 @@ void write_mesh_data(std::ostream& out, Mesh_format format, const Mesh_data& mes
 
 void write_mesh_data(const std::string& path, const Mesh_data& mesh, const Write_options& options) {
   const Mesh_format format = mesh_format_of(path);
+  if (format == Mesh_format::ase)
+    throw Invalid_input(Input_location{path, 0, Input_location::no_offset},
+                        "ASE is an input format only: write meshes as .off, .obj, .ply, .stl, .vtp or .vtk");
   check_output_path(path, options.protected_paths);
   check_indices(mesh);
   internal::write_file_atomically(path, [&](std::ostream& os) {
@@ -383,6 +409,132 @@ void write_curve_edges(const std::string& path, const Mesh_data& mesh, const Wri
       w << '\n';
     }
   });
+}
+
+// ---- one mesh per region ------------------------------------------------------------------------
+
+std::vector<Region_mesh> split_by_region(const Mesh_data& mesh) {
+  const std::size_t n = mesh.points.size(), nt = mesh.triangles.size();
+  if (!mesh.face_patch.empty() && mesh.face_patch.size() != nt)
+    throw Invalid_input("face_patch has " + std::to_string(mesh.face_patch.size()) + " entries for " +
+                        std::to_string(nt) + " triangles");
+  for (std::size_t t = 0; t < nt; ++t)
+    for (std::size_t v : mesh.triangles[t])
+      if (v >= n) throw Invalid_input("triangle " + std::to_string(t) + " refers to vertex " +
+                                      std::to_string(v) + " of " + std::to_string(n));
+  auto region_of = [&](std::size_t t) { return mesh.face_patch.empty() ? 0 : mesh.face_patch[t]; };
+  std::vector<int> ids;
+  for (std::size_t t = 0; t < nt; ++t) ids.push_back(region_of(t));
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+
+  std::vector<Region_mesh> regions(ids.size());
+  std::vector<std::size_t> slot(nt);
+  for (std::size_t r = 0; r < ids.size(); ++r) regions[r].region = ids[r];
+  for (std::size_t t = 0; t < nt; ++t) {
+    slot[t] = static_cast<std::size_t>(std::lower_bound(ids.begin(), ids.end(), region_of(t)) - ids.begin());
+    regions[slot[t]].face_in_full.push_back(t);
+  }
+  // Local vertices in increasing order of their full index, so a region file lists its vertices
+  // in the order of the full output.
+  constexpr std::size_t none = static_cast<std::size_t>(-1);
+  std::vector<std::size_t> local(n, none);
+  for (Region_mesh& r : regions) {
+    for (std::size_t t : r.face_in_full)
+      for (std::size_t v : mesh.triangles[t]) r.vertex_in_full.push_back(v);
+    std::sort(r.vertex_in_full.begin(), r.vertex_in_full.end());
+    r.vertex_in_full.erase(std::unique(r.vertex_in_full.begin(), r.vertex_in_full.end()), r.vertex_in_full.end());
+    r.mesh.points.reserve(r.vertex_in_full.size());
+    for (std::size_t i = 0; i < r.vertex_in_full.size(); ++i) {
+      local[r.vertex_in_full[i]] = i;
+      r.mesh.points.push_back(mesh.points[r.vertex_in_full[i]]);
+    }
+    r.mesh.triangles.reserve(r.face_in_full.size());
+    for (std::size_t t : r.face_in_full) {
+      const auto& tri = mesh.triangles[t];
+      r.mesh.triangles.push_back({local[tri[0]], local[tri[1]], local[tri[2]]});
+    }
+    r.mesh.face_patch.assign(r.face_in_full.size(), r.region);
+    for (std::size_t v : r.vertex_in_full) local[v] = none;
+  }
+  return regions;
+}
+
+std::string region_file_name(int region, Mesh_format format) {
+  return "region_" + std::to_string(region) + "." + extension_of(format);
+}
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// Whether `name` is a file write_region_meshes may write: region_<k>.<ext> or regions.json.
+bool is_region_file_name(const std::string& name, Mesh_format format) {
+  if (name == "regions.json") return true;
+  const std::string prefix = "region_", suffix = std::string(".") + extension_of(format);
+  if (name.size() <= prefix.size() + suffix.size() || name.compare(0, prefix.size(), prefix) != 0 ||
+      name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0)
+    return false;
+  std::string k = name.substr(prefix.size(), name.size() - prefix.size() - suffix.size());
+  if (!k.empty() && k.front() == '-') k.erase(0, 1);
+  return !k.empty() && std::all_of(k.begin(), k.end(), [](unsigned char c) { return c >= '0' && c <= '9'; });
+}
+
+}  // namespace
+
+void check_region_directory(const std::string& dir, Mesh_format format,
+                            const std::vector<std::string>& protected_paths) {
+  const Input_location where{dir, 0, Input_location::no_offset};
+  if (dir.empty()) throw Invalid_input("the directory for the region meshes is empty");
+  if (format == Mesh_format::ase)
+    throw Invalid_input(where, "ASE is an input format only: region meshes are written as the output is");
+  std::error_code ec;
+  const fs::file_status st = fs::status(dir, ec);
+  if (fs::exists(st)) {
+    if (!fs::is_directory(st))
+      throw Invalid_input(where, "exists and is not a directory; the region meshes need a directory (remove it "
+                                 "or choose another name)");
+    if (::access(dir.c_str(), W_OK | X_OK) != 0)
+      throw Invalid_input(where, std::string("cannot write in the directory: ") + std::strerror(errno));
+  } else {
+    // Created when writing, but not its parents: a mistyped parent is an error, not a new tree.
+    fs::path parent = fs::path(dir).lexically_normal();
+    if (!parent.has_filename()) parent = parent.parent_path();  // "out/" -> "out"
+    parent = parent.has_parent_path() ? parent.parent_path() : fs::path(".");
+    const fs::file_status pst = fs::status(parent, ec);
+    if (!fs::exists(pst))
+      throw Invalid_input(where, "the directory does not exist and neither does its parent '" + parent.string() +
+                                     "' (only the last level is created)");
+    if (!fs::is_directory(pst)) throw Invalid_input(where, "'" + parent.string() + "' is not a directory");
+    if (::access(parent.c_str(), W_OK | X_OK) != 0)
+      throw Invalid_input(where, "cannot create the directory in '" + parent.string() + "': " + std::strerror(errno));
+  }
+  // Never over an input or another output: refuse a protected file that a region file would replace.
+  const fs::path d = fs::weakly_canonical(fs::path(dir), ec);
+  for (const std::string& p : protected_paths) {
+    std::error_code ec2;
+    const fs::path pp = fs::weakly_canonical(fs::path(p), ec2);
+    if (ec || ec2 || pp.parent_path() != d) continue;
+    if (is_region_file_name(pp.filename().string(), format))
+      throw Invalid_input(where, "'" + p + "' is in the directory and has the name of a region file or of "
+                                 "regions.json; refusing to overwrite it");
+  }
+}
+
+std::vector<Region_mesh> write_region_meshes(const std::string& dir, const Mesh_data& mesh, Mesh_format format,
+                                             const Write_options& options) {
+  check_region_directory(dir, format, options.protected_paths);
+  std::vector<Region_mesh> regions = split_by_region(mesh);
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) {
+    fs::create_directory(dir, ec);
+    if (ec)
+      throw Invalid_input(Input_location{dir, 0, Input_location::no_offset},
+                          "cannot create the directory: " + ec.message());
+  }
+  for (const Region_mesh& r : regions)
+    write_mesh_data((fs::path(dir) / region_file_name(r.region, format)).string(), r.mesh, options);
+  return regions;
 }
 
 }  // namespace meshfit

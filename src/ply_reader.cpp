@@ -294,6 +294,37 @@ class Body_reader {
   }
 };
 
+// Vertex and face properties meshfit reads past without keeping, grouped as people name them:
+// "vertex normals (nx ny nz)", "texture coordinates (s t)", "other face properties (flags)".
+void note_dropped_attributes(const Ply_header& h, Polygon_soup& soup) {
+  auto one_of = [](const std::string& n, std::initializer_list<const char*> names) {
+    for (const char* c : names)
+      if (n == c) return true;
+    return false;
+  };
+  for (const Ply_element& e : h.elements) {
+    if (e.name != "vertex" && e.name != "face") continue;
+    std::string normals, colours, uvs, others;
+    for (std::size_t k = 0; k < e.properties.size(); ++k) {
+      if (e.roles[k] != Role::none) continue;
+      const std::string& n = e.properties[k].name;
+      std::string* group = &others;
+      if (one_of(n, {"nx", "ny", "nz", "normal_x", "normal_y", "normal_z"})) group = &normals;
+      else if (one_of(n, {"red", "green", "blue", "alpha", "r", "g", "b", "a", "diffuse_red", "diffuse_green",
+                          "diffuse_blue", "diffuse_alpha"}))
+        group = &colours;
+      else if (one_of(n, {"u", "v", "s", "t", "texture_u", "texture_v", "texture_s", "texture_t", "texcoord"}))
+        group = &uvs;
+      *group += (group->empty() ? "" : " ") + n;
+    }
+    const std::string which = e.name == "vertex" ? "vertex " : "face ";
+    if (!normals.empty()) soup.drop(which + "normals (" + normals + ")");
+    if (!colours.empty()) soup.drop(which + "colours (" + colours + ")");
+    if (!uvs.empty()) soup.drop((e.name == "vertex" ? "texture coordinates (" : "face texture coordinates (") + uvs + ")");
+    if (!others.empty()) soup.drop("other " + which + "properties (" + others + ")");
+  }
+}
+
 }  // namespace
 
 Polygon_soup parse_ply(std::string_view text, const std::string& name) {
@@ -302,6 +333,7 @@ Polygon_soup parse_ply(std::string_view text, const std::string& name) {
   Polygon_soup soup;
   soup.file = name;
   soup.binary = h.encoding != Encoding::ascii;
+  note_dropped_attributes(h, soup);
   Body_reader body(text, h, name, lines);
 
   auto to_index = [&](double v, const std::string& what) -> std::size_t {

@@ -4,6 +4,8 @@
 
 #include <meshfit/io.h>
 
+#include <algorithm>
+#include <string>
 #include <string_view>
 
 namespace meshfit {
@@ -22,6 +24,13 @@ struct Polygon_soup {
   std::vector<std::array<std::size_t, 2>> edges;
   std::vector<std::size_t> edge_where;
   std::size_t ignored_edges = 0;  ///< listed edges that are not curve edges (PLY without `curve`)
+  /// Attributes read and not kept (Mesh_read_report::dropped_attributes); add with drop().
+  std::vector<std::string> dropped_attributes;
+
+  void drop(const std::string& attribute) {
+    if (std::find(dropped_attributes.begin(), dropped_attributes.end(), attribute) == dropped_attributes.end())
+      dropped_attributes.push_back(attribute);
+  }
 
   std::size_t number_of_polygons() const { return start.size() - 1; }
   void end_polygon(std::size_t where) {
@@ -37,6 +46,7 @@ Polygon_soup parse_off(std::string_view text, const std::string& name);
 Polygon_soup parse_obj(std::string_view text, const std::string& name);
 Polygon_soup parse_ply(std::string_view text, const std::string& name);
 Polygon_soup parse_stl(std::string_view text, const std::string& name);
+Polygon_soup parse_ase(std::string_view text, const std::string& name);
 
 /// Checks the soup and triangulates its polygons (see io.h for what is checked).
 Mesh_data validate_polygon_soup(const Polygon_soup& soup, Mesh_read_report* report);

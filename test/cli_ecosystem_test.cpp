@@ -12,6 +12,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <fstream>
 #include <set>
@@ -319,4 +321,193 @@ TEST_CASE("cli ecosystem: on a terminal, progress is one line that rewrites itse
   // The rewriting line ends before the summary, which is plain lines.
   CHECK(tty.find("\r\033[Kmeshfit: fit: ") != std::string::npos);
   CHECK(tty.find("meshfit: smooth: iteration (1/100)\n") == std::string::npos);
+}
+
+// ---- --split-regions DIR ------------------------------------------------------------------------
+
+namespace {
+
+using Face_key = std::array<double, 9>;
+
+// A triangle by its corners' coordinates, turned to start at its smallest corner (orientation kept).
+Face_key face_key(const meshfit::Point_3& a, const meshfit::Point_3& b, const meshfit::Point_3& c) {
+  std::array<std::array<double, 3>, 3> p{{{a.x(), a.y(), a.z()}, {b.x(), b.y(), b.z()}, {c.x(), c.y(), c.z()}}};
+  const std::size_t first = static_cast<std::size_t>(std::min_element(p.begin(), p.end()) - p.begin());
+  Face_key k{};
+  for (std::size_t i = 0; i < 3; ++i)
+    for (std::size_t j = 0; j < 3; ++j) k[3 * i + j] = p[(first + i) % 3][j];
+  return k;
+}
+
+std::vector<Face_key> faces_by_position(const meshfit::Mesh_data& m, int region, bool all = false) {
+  std::vector<Face_key> keys;
+  for (std::size_t f = 0; f < m.triangles.size(); ++f)
+    if (all || m.face_patch.at(f) == region) {
+      const auto& t = m.triangles[f];
+      keys.push_back(face_key(m.points[t[0]], m.points[t[1]], m.points[t[2]]));
+    }
+  std::sort(keys.begin(), keys.end());
+  return keys;
+}
+
+// Checks DIR against the output `out`: one file per region holding exactly the output's faces of
+// that region, regions.json's counts and vertex map.
+void check_split(const Temp_dir& dir, const std::string& output, const std::string& split, const std::string& ext,
+                 std::size_t expected_regions) {
+  const meshfit::Mesh_data out = meshfit::read_mesh_data(dir.file(output));
+  REQUIRE(out.face_patch.size() == out.triangles.size());
+  const Json index = read_json(dir.file(split + "/regions.json"));
+  CHECK(index["schema"] == "meshfit-regions");
+  CHECK(index["mesh"] == output);
+  CHECK(index["faces"] == out.triangles.size());
+  CHECK(index["vertices"] == out.points.size());
+  std::set<int> ids(out.face_patch.begin(), out.face_patch.end());
+  REQUIRE(index["regions"].size() == ids.size());
+  CHECK(ids.size() == expected_regions);
+  std::size_t faces = 0, files = 0;
+  for (const Json& r : index["regions"]) {
+    const int k = r["region"].get<int>();
+    INFO("region " << k);
+    CHECK(ids.count(k) == 1);
+    const std::string file = r["file"].get<std::string>();
+    CHECK(file == "region_" + std::to_string(k) + "." + ext);
+    const meshfit::Mesh_data part = meshfit::read_mesh_data(dir.file(split + "/" + file));
+    ++files;
+    faces += r["faces"].get<std::size_t>();
+    CHECK(r["faces"] == part.triangles.size());
+    CHECK(r["vertices"] == part.points.size());
+    // Exactly the output's faces whose region is k, by vertex positions.
+    CHECK(faces_by_position(part, k, true) == faces_by_position(out, k));
+    // The map: local vertex i is output vertex map[i], in increasing order, and the region's
+    // faces use exactly those vertices.
+    const std::vector<std::size_t> map = r["vertex_in_mesh"].get<std::vector<std::size_t>>();
+    REQUIRE(map.size() == part.points.size());
+    CHECK(std::is_sorted(map.begin(), map.end()));
+    std::set<std::size_t> used;
+    for (std::size_t f = 0; f < out.triangles.size(); ++f)
+      if (out.face_patch[f] == k) used.insert(out.triangles[f].begin(), out.triangles[f].end());
+    CHECK(std::vector<std::size_t>(used.begin(), used.end()) == map);
+    for (std::size_t i = 0; i < map.size(); ++i) {
+      REQUIRE(map[i] < out.points.size());
+      CHECK(part.points[i] == out.points[map[i]]);
+    }
+  }
+  CHECK(faces == out.triangles.size());
+  std::size_t entries = 0;
+  for (const auto& e : std::filesystem::directory_iterator(dir.file(split))) entries += (void(e), 1);
+  CHECK(entries == files + 1);  // the region files and regions.json, no temporary file
+}
+
+}  // namespace
+
+TEST_CASE("cli ecosystem: --split-regions writes one mesh per region and an index that maps back", "[cli][ecosystem][split]") {
+  Temp_dir dir;
+  for (const std::string ext : {"ply", "obj"}) {
+    SECTION(ext) {
+      const std::string output = "fit." + ext;
+      const Run_result r = run(dir, "fit" + example_inputs + " --output " + output + " --split-regions parts --report r.json");
+      INFO(r.err);
+      REQUIRE(r.status == 0);
+      CHECK(r.err.find("12 region meshes") != std::string::npos);
+      check_split(dir, output, "parts", ext, 12);
+      const Json report = read_json(dir.file("r.json"));
+      CHECK(report["outputs"]["regions"] == "parts/regions.json");
+      // partition writes them too (on fit's output, whose vertices include the network's).
+      const Run_result p = run(dir, "partition --quiet --template " + output + " --curves " +
+                                        q(data + "/curves.polylines.txt") + " --output p." + ext +
+                                        " --split-regions " + q(dir.file("p-parts")));
+      INFO(p.err);
+      REQUIRE(p.status == 0);
+      check_split(dir, "p." + ext, "p-parts", ext, 12);
+    }
+  }
+}
+
+TEST_CASE("cli ecosystem: a --split-regions directory that cannot be used is refused before any work", "[cli][ecosystem][split]") {
+  Temp_dir dir;
+  const std::string file = dir.write("a-file", "keep");
+  const Run_result not_dir = run(dir, "fit" + example_inputs + " --output o.ply --split-regions a-file");
+  CHECK(not_dir.status == 1);
+  CHECK(not_dir.err.find("a-file") != std::string::npos);
+  CHECK(not_dir.err.find("is not a directory") != std::string::npos);
+  CHECK(read_text(file) == "keep");
+  const Run_result no_parent = run(dir, "partition --template " + q(data + "/template.off") + " --curves " +
+                                            q(data + "/curves.polylines.txt") + " --output o.ply --split-regions no/parts");
+  CHECK(no_parent.status == 1);
+  CHECK(no_parent.err.find("neither does its parent") != std::string::npos);
+  CHECK_FALSE(std::filesystem::exists(dir.file("no")));
+  // An input where a region file would go.
+  std::filesystem::create_directory(dir.file("parts"));
+  std::filesystem::copy_file(data + "/template.off", dir.file("parts/region_0.off"));
+  const Run_result input = run(dir, "fit --template parts/region_0.off --curves " + q(data + "/curves.polylines.txt") +
+                                        " --correspondences " + q(data + "/pairs.txt") +
+                                        " --output o.off --split-regions parts");
+  CHECK(input.status == 1);
+  CHECK(input.err.find("refusing to overwrite") != std::string::npos);
+  // None of them ran the pipeline or wrote an output.
+  for (const Run_result* r : {&not_dir, &no_parent, &input}) {
+    CHECK(r->err.find("meshfit: deform") == std::string::npos);
+    CHECK(r->err.find("meshfit: partition:") == std::string::npos);
+  }
+  CHECK_FALSE(std::filesystem::exists(dir.file("o.ply")));
+  CHECK_FALSE(std::filesystem::exists(dir.file("o.off")));
+  CHECK(read_text(dir.file("parts/region_0.off")) == read_text(data + "/template.off"));
+  // A missing directory whose parent exists is created.
+  REQUIRE(run(dir, "fit --quiet" + example_inputs + " --output o.ply --split-regions new-parts").status == 0);
+  CHECK(std::filesystem::exists(dir.file("new-parts/regions.json")));
+  CHECK(std::filesystem::exists(dir.file("new-parts/region_0.ply")));
+}
+
+// ---- attributes read and not carried ------------------------------------------------------------
+
+TEST_CASE("cli ecosystem: attributes of the template that the output does not carry are warned about in the report", "[cli][ecosystem][attributes]") {
+  Temp_dir dir;
+  const meshfit::Mesh_data t = meshfit::read_mesh_data(data + "/template.off");
+  {  // The example's template as an OBJ with texture coordinates.
+    std::ofstream obj(dir.file("template.obj"));
+    obj.precision(17);
+    for (const auto& p : t.points) obj << "v " << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
+    for (const auto& p : t.points) obj << "vt " << 0.5 + 0.5 * p.x() << ' ' << 0.5 + 0.5 * p.y() << '\n';
+    for (const auto& f : t.triangles)
+      obj << "f " << f[0] + 1 << '/' << f[0] + 1 << ' ' << f[1] + 1 << '/' << f[1] + 1 << ' ' << f[2] + 1 << '/'
+          << f[2] + 1 << '\n';
+  }
+  {  // ... and as a PLY with vertex normals.
+    std::ofstream ply(dir.file("template.ply"));
+    ply.precision(17);
+    ply << "ply\nformat ascii 1.0\nelement vertex " << t.points.size()
+        << "\nproperty double x\nproperty double y\nproperty double z\nproperty float nx\nproperty float ny\n"
+           "property float nz\nelement face "
+        << t.triangles.size() << "\nproperty list uchar int vertex_indices\nend_header\n";
+    for (const auto& p : t.points) ply << p.x() << ' ' << p.y() << ' ' << p.z() << " 0 0 1\n";
+    for (const auto& f : t.triangles) ply << "3 " << f[0] << ' ' << f[1] << ' ' << f[2] << '\n';
+  }
+  const std::string rest = " --curves " + q(data + "/curves.polylines.txt") + " --correspondences " + q(data + "/pairs.txt");
+  auto warnings = [&](const std::string& name) {
+    const Json j = read_json(dir.file(name));
+    std::vector<std::string> w;
+    for (const Json& s : j["warnings"])
+      if (s.get<std::string>().find("read and not carried") != std::string::npos) w.push_back(s.get<std::string>());
+    return w;
+  };
+  const Run_result obj = run(dir, "fit --template template.obj" + rest + " --output a.ply --report a.json");
+  INFO(obj.err);
+  REQUIRE(obj.status == 0);
+  CHECK(warnings("a.json") ==
+        std::vector<std::string>{"template.obj: texture coordinates (vt) are read and not carried to the output"});
+  CHECK(obj.err.find("warning: template.obj: texture coordinates (vt) are read and not carried") != std::string::npos);
+  REQUIRE(run(dir, "fit --quiet --template template.ply" + rest + " --output b.ply --report b.json").status == 0);
+  CHECK(warnings("b.json") ==
+        std::vector<std::string>{"template.ply: vertex normals (nx ny nz) are read and not carried to the output"});
+  // The same geometry without attributes: no such warning, and the same fit.
+  REQUIRE(run(dir, "fit --quiet" + example_inputs + " --output c.ply --report c.json").status == 0);
+  CHECK(warnings("c.json").empty());
+  CHECK(read_text(dir.file("c.ply")) == read_text(dir.file("b.ply")));
+  // partition and smooth warn too, and a failed run's report keeps the warning.
+  REQUIRE(run(dir, "smooth --quiet --template template.obj --output s.ply --report s.json").status == 0);
+  CHECK(warnings("s.json").size() == 1);
+  CHECK(run(dir, "partition --quiet --template template.obj --curves " + q(data + "/curves.polylines.txt") +
+                     " --output p.ply --report p.json").status == 1);
+  CHECK(read_json(dir.file("p.json"))["completed"] == false);
+  CHECK(warnings("p.json").size() == 1);
 }

@@ -11,6 +11,8 @@
 #include "malformed_catalogue.h"
 #include "test_helpers.h"
 
+#include <algorithm>
+#include <filesystem>
 #include <sstream>
 
 using namespace meshfit_test;
@@ -327,3 +329,304 @@ TEST_CASE("io: CGAL's sample meshes read with the expected topology", "[io][real
   }
 }
 #endif
+
+// ---- ASE templates ------------------------------------------------------------------------------
+
+namespace {
+
+const std::string ase_octahedron_path = MESHFIT_TEST_DATA_DIR "/octahedron.ase";
+
+std::vector<std::string> lines_of_file(const std::string& path) {
+  std::istringstream in(read_text(path));
+  std::vector<std::string> lines;
+  for (std::string l; std::getline(in, l);) lines.push_back(l);
+  return lines;
+}
+
+std::string joined(const std::vector<std::string>& lines) {
+  std::string s;
+  for (const std::string& l : lines) s += l + "\n";
+  return s;
+}
+
+// The 1-based line of `lines` that starts (after blanks) with `start`, the `nth` such (0-based).
+std::size_t line_starting(const std::vector<std::string>& lines, const std::string& start, int nth = 0) {
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    const std::size_t b = lines[i].find_first_not_of(" \t");
+    if (b != std::string::npos && lines[i].compare(b, start.size(), start) == 0 && nth-- == 0) return i + 1;
+  }
+  FAIL("no line starts with " << start);
+  return 0;
+}
+
+}  // namespace
+
+TEST_CASE("io: an ASE octahedron reads to 6 vertices and 8 faces with its coordinates", "[io][ase]") {
+  meshfit::Mesh_read_report r;
+  const Mesh_data m = meshfit::read_mesh_data(ase_octahedron_path, &r);
+  CHECK(r.format == Mesh_format::ase);
+  CHECK(meshfit::mesh_format_of("T.ASE") == Mesh_format::ase);
+  // The file's coordinates and faces, written independently here: the octahedron of radius 1.5
+  // centred at (0, 0, 0.25).
+  const std::vector<meshfit::Point_3> expected{{1.5, 0, 0.25}, {-1.5, 0, 0.25}, {0, 1.5, 0.25},
+                                               {0, -1.5, 0.25}, {0, 0, 1.75}, {0, 0, -1.25}};
+  REQUIRE(m.points.size() == 6);
+  for (std::size_t i = 0; i < 6; ++i) CHECK(m.points[i] == expected[i]);
+  REQUIRE(m.triangles.size() == 8);
+  CHECK(m.triangles == octahedron().triangles);
+  CHECK(m.face_patch.empty());
+  CHECK(m.curve_edges.empty());
+  // The file has a *MESH_NORMALS block: read past, reported.
+  CHECK(r.dropped_attributes == std::vector<std::string>{"normals (*MESH_NORMALS)"});
+  // As a CGAL mesh: closed, genus 0.
+  CGAL::Surface_mesh<meshfit::Point_3> sm;
+  meshfit::read_triangle_mesh(ase_octahedron_path, sm);
+  CHECK(sm.number_of_vertices() == 6);
+  CHECK(sm.number_of_faces() == 8);
+  CHECK(CGAL::is_closed(sm));
+  // An output format it is not.
+  Temp_dir dir;
+  require_invalid([&] { meshfit::write_mesh_data(dir.file("o.ase"), m); }, 0, "input format only");
+}
+
+TEST_CASE("io: ASE objects are merged, each object's face indices offset by the vertices before it", "[io][ase]") {
+  std::vector<std::string> lines = lines_of_file(ase_octahedron_path);
+  // A second object: the same octahedron moved by +10 in x (its *MESH_VERTEX lines rewritten).
+  const std::size_t begin = line_starting(lines, "*GEOMOBJECT") - 1;
+  std::vector<std::string> second(lines.begin() + static_cast<std::ptrdiff_t>(begin), lines.end());
+  for (std::string& l : second)
+    if (l.find("*MESH_VERTEX ") != std::string::npos) {
+      std::istringstream in(l);
+      std::string key;
+      int i = 0;
+      double x = 0, y = 0, z = 0;
+      in >> key >> i >> x >> y >> z;
+      l = "*MESH_VERTEX " + std::to_string(i) + " " + std::to_string(x + 10) + " " + std::to_string(y) + " " +
+          std::to_string(z);
+    }
+  lines.insert(lines.end(), second.begin(), second.end());
+  const Mesh_data m = parse(joined(lines), Mesh_format::ase);
+  REQUIRE(m.points.size() == 12);
+  REQUIRE(m.triangles.size() == 16);
+  const Mesh_data one = meshfit::read_mesh_data(ase_octahedron_path);
+  for (std::size_t i = 0; i < 6; ++i) {
+    CHECK(m.points[i] == one.points[i]);
+    CHECK(m.points[6 + i] == meshfit::Point_3(one.points[i].x() + 10, one.points[i].y(), one.points[i].z()));
+  }
+  for (std::size_t f = 0; f < 8; ++f) {
+    CHECK(m.triangles[f] == one.triangles[f]);
+    CHECK(m.triangles[8 + f] ==
+          std::array<std::size_t, 3>{one.triangles[f][0] + 6, one.triangles[f][1] + 6, one.triangles[f][2] + 6});
+  }
+}
+
+TEST_CASE("io: every malformed ASE names its file, line and problem", "[io][ase][malformed]") {
+  const std::vector<std::string> good = lines_of_file(ase_octahedron_path);
+  REQUIRE(parse(joined(good), Mesh_format::ase).triangles.size() == 8);  // the cases below break a valid file
+  const std::size_t numvertex = line_starting(good, "*MESH_NUMVERTEX");
+  const std::size_t numfaces = line_starting(good, "*MESH_NUMFACES");
+  const std::size_t vertex2 = line_starting(good, "*MESH_VERTEX ", 2);
+  const std::size_t face3 = line_starting(good, "*MESH_FACE ", 3);
+  const std::size_t vertex_list = line_starting(good, "*MESH_VERTEX_LIST");
+  const std::size_t face_list = line_starting(good, "*MESH_FACE_LIST");
+  const std::size_t geomobject = line_starting(good, "*GEOMOBJECT");
+  const std::size_t mesh = line_starting(good, "*MESH {");
+  auto with = [&](std::size_t line, const std::string& text) {
+    std::vector<std::string> l = good;
+    l[line - 1] = text;
+    return l;
+  };
+  auto check = [&](const std::vector<std::string>& lines, std::size_t line, const std::string& fragment) {
+    INFO("expected line " << line << ": " << fragment);
+    require_invalid([&] { parse(joined(lines), Mesh_format::ase); }, line, fragment);
+  };
+  SECTION("more vertices declared than listed: the end of the list") {
+    check(with(numvertex, "*MESH_NUMVERTEX 7"), vertex_list + 7, "has 6 vertices but *MESH_NUMVERTEX (line " +
+                                                                      std::to_string(numvertex) + ") declares 7");
+  }
+  SECTION("fewer faces declared than listed: the first face too many") {
+    check(with(numfaces, "*MESH_NUMFACES 7"), face_list + 8, "face index 7 is out of range");
+  }
+  SECTION("more faces declared than listed") {
+    check(with(numfaces, "*MESH_NUMFACES 9"), face_list + 9, "has 8 faces but *MESH_NUMFACES");
+  }
+  SECTION("a corner out of range") {
+    check(with(face3, "*MESH_FACE 3: A: 3 B: 6 C: 4"), face3, "corner B of face 3: vertex 6 is out of range");
+  }
+  SECTION("a non-numeric coordinate") {
+    check(with(vertex2, "*MESH_VERTEX 2 0.0 one 0.25"), vertex2, "expected a number for y coordinate, found 'one'");
+  }
+  SECTION("a non-numeric corner") {
+    check(with(face3, "*MESH_FACE 3: A: 3 B: x C: 4"), face3, "expected a non-negative integer for vertex index");
+  }
+  SECTION("vertices out of order") {
+    check(with(vertex2, "*MESH_VERTEX 3 0 1.5 0.25"), vertex2, "expected vertex 2, found vertex 3");
+  }
+  SECTION("a vertex line with a value missing") {
+    check(with(vertex2, "*MESH_VERTEX 2 0 1.5"), vertex2, "expected '*MESH_VERTEX i x y z'");
+  }
+  SECTION("a face without its B corner") {
+    check(with(face3, "*MESH_FACE 3: A: 3 C: 4"), face3, "expected '*MESH_FACE i: A: a B: b C: c'");
+  }
+  SECTION("the face list missing") {
+    std::vector<std::string> l = good;
+    l.erase(l.begin() + static_cast<std::ptrdiff_t>(face_list - 1), l.begin() + static_cast<std::ptrdiff_t>(face_list + 9));
+    check(l, line_starting(l, "*MESH_NORMALS") + 4, "the *MESH (opened at line " + std::to_string(mesh) +
+                                                         ") has no *MESH_FACE_LIST (it declares 8 faces)");
+  }
+  SECTION("the vertex list before its count") {
+    std::vector<std::string> l = good;
+    std::swap(l[numvertex - 1], l[numfaces - 1]);
+    l.erase(l.begin() + static_cast<std::ptrdiff_t>(numfaces - 1));  // (the count, now on numfaces's line)
+    check(l, vertex_list - 1, "*MESH_VERTEX_LIST before *MESH_NUMVERTEX");
+  }
+  SECTION("a block not closed") {
+    std::vector<std::string> l = good;
+    l.pop_back();
+    check(l, geomobject, "'*GEOMOBJECT' opened here is not closed");
+  }
+  SECTION("no header") {
+    std::vector<std::string> l(good.begin() + 1, good.end());
+    check(l, 1, "expected the ASE header *3DSMAX_ASCIIEXPORT");
+  }
+  SECTION("no mesh at all") {
+    check({"*3DSMAX_ASCIIEXPORT 200", "*SCENE {", "}"}, 3, "no *GEOMOBJECT with a *MESH");
+  }
+  SECTION("the file is named") {
+    Temp_dir dir;
+    const std::string path = dir.write("broken.ase", joined(with(vertex2, "*MESH_VERTEX 2 0 x 0.25")));
+    try {
+      meshfit::read_mesh_data(path);
+      FAIL("no error");
+    } catch (const meshfit::Invalid_input& e) {
+      CHECK(e.where().file == path);
+      CHECK(std::string(e.what()).find(path + ":" + std::to_string(vertex2)) != std::string::npos);
+    }
+  }
+}
+
+// ---- attributes read and not carried ------------------------------------------------------------
+
+TEST_CASE("io: the readers list the attributes they read and do not carry", "[io][attributes]") {
+  meshfit::Mesh_read_report r;
+  SECTION("OBJ texture coordinates and normals") {
+    parse("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvn 0 0 1\nf 1/1/1 2/2/1 3/3/1\n", Mesh_format::obj, &r);
+    CHECK(r.dropped_attributes == std::vector<std::string>{"texture coordinates (vt)", "vertex normals (vn)"});
+  }
+  SECTION("OBJ vertex colours") {
+    parse("v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 1\nf 1 2 3\n", Mesh_format::obj, &r);
+    CHECK(r.dropped_attributes == std::vector<std::string>{"vertex colours (v x y z r g b)"});
+  }
+  SECTION("PLY normals, colours and texture coordinates") {
+    parse("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+          "property float nx\nproperty float ny\nproperty float nz\nproperty uchar red\nproperty uchar green\n"
+          "property uchar blue\nproperty float s\nproperty float t\nproperty float quality\n"
+          "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+          "0 0 0 0 0 1 255 0 0 0 0 1\n1 0 0 0 0 1 0 255 0 1 0 1\n0 1 0 0 0 1 0 0 255 0 1 1\n3 0 1 2\n",
+          Mesh_format::ply, &r);
+    CHECK(r.dropped_attributes == std::vector<std::string>{"vertex normals (nx ny nz)", "vertex colours (red green blue)",
+                                                           "texture coordinates (s t)",
+                                                           "other vertex properties (quality)"});
+  }
+  SECTION("COFF, NOFF, STOFF") {
+    parse("COFF\n3 1 0\n0 0 0 1 0 0 1\n1 0 0 0 1 0 1\n0 1 0 0 0 1 1\n3 0 1 2\n", Mesh_format::off, &r);
+    CHECK(r.dropped_attributes == std::vector<std::string>{"vertex colours (COFF)"});
+    parse("NOFF\n3 1 0\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n3 0 1 2\n", Mesh_format::off, &r);
+    CHECK(r.dropped_attributes == std::vector<std::string>{"vertex normals (NOFF)"});
+    parse("STOFF\n3 1 0\n0 0 0 0 0\n1 0 0 1 0\n0 1 0 0 1\n3 0 1 2\n", Mesh_format::off, &r);
+    CHECK(r.dropped_attributes == std::vector<std::string>{"texture coordinates (STOFF)"});
+  }
+  SECTION("plain files: none") {
+    parse(valid_template_off(), Mesh_format::off, &r);
+    CHECK(r.dropped_attributes.empty());
+    parse(to_text(octahedron(), Mesh_format::obj), Mesh_format::obj, &r);
+    CHECK(r.dropped_attributes.empty());
+    Mesh_data m = octahedron();
+    m.face_patch = {0, 0, 0, 0, 1, 1, 1, 1};
+    parse(to_text(m, Mesh_format::ply), Mesh_format::ply, &r);  // patch_id is carried
+    CHECK(r.dropped_attributes.empty());
+  }
+}
+
+// ---- one mesh per region ------------------------------------------------------------------------
+
+TEST_CASE("io: split_by_region gives each region its faces and the vertices they use, in order", "[io][split]") {
+  Mesh_data m = grid(3);  // 16 vertices, 18 triangles
+  // Regions 2, 0, 5 in stripes of rows (row j has triangles 6j .. 6j+5); region 5 also takes one
+  // triangle of row 0.
+  m.face_patch.assign(m.triangles.size(), 0);
+  for (std::size_t t = 0; t < 18; ++t) m.face_patch[t] = t < 6 ? 2 : t < 12 ? 0 : 5;
+  m.face_patch[1] = 5;
+  const std::vector<meshfit::Region_mesh> regions = meshfit::split_by_region(m);
+  REQUIRE(regions.size() == 3);
+  CHECK(regions[0].region == 0);
+  CHECK(regions[1].region == 2);
+  CHECK(regions[2].region == 5);
+  std::size_t faces = 0;
+  std::vector<int> seen(m.triangles.size(), 0);
+  for (const meshfit::Region_mesh& r : regions) {
+    faces += r.mesh.triangles.size();
+    REQUIRE(r.face_in_full.size() == r.mesh.triangles.size());
+    REQUIRE(r.vertex_in_full.size() == r.mesh.points.size());
+    CHECK(std::is_sorted(r.vertex_in_full.begin(), r.vertex_in_full.end()));
+    CHECK(std::adjacent_find(r.vertex_in_full.begin(), r.vertex_in_full.end()) == r.vertex_in_full.end());
+    CHECK(r.mesh.face_patch == std::vector<int>(r.mesh.triangles.size(), r.region));
+    std::vector<bool> used(r.mesh.points.size(), false);
+    for (std::size_t f = 0; f < r.mesh.triangles.size(); ++f) {
+      const std::size_t full = r.face_in_full[f];
+      ++seen[full];
+      CHECK(m.face_patch[full] == r.region);
+      for (int k = 0; k < 3; ++k) {
+        const std::size_t local = r.mesh.triangles[f][k];
+        REQUIRE(local < r.mesh.points.size());
+        used[local] = true;
+        CHECK(r.vertex_in_full[local] == m.triangles[full][k]);
+        CHECK(r.mesh.points[local] == m.points[m.triangles[full][k]]);
+      }
+    }
+    CHECK(std::count(used.begin(), used.end(), false) == 0);  // only the vertices its faces use
+  }
+  CHECK(faces == m.triangles.size());
+  CHECK(std::count(seen.begin(), seen.end(), 1) == static_cast<std::ptrdiff_t>(m.triangles.size()));
+  // Region 2 is row 0 without triangle 1 (0, 5, 4): vertex 4 is in none of its faces.
+  CHECK(regions[1].vertex_in_full == std::vector<std::size_t>{0, 1, 2, 3, 5, 6, 7});
+  // Without regions: one region 0 holding everything.
+  const auto whole = meshfit::split_by_region(grid(2));
+  REQUIRE(whole.size() == 1);
+  CHECK(whole[0].region == 0);
+  CHECK(whole[0].mesh.triangles == grid(2).triangles);
+  CHECK(meshfit::region_file_name(3, Mesh_format::ply) == "region_3.ply");
+  CHECK(meshfit::region_file_name(-1, Mesh_format::obj) == "region_-1.obj");
+}
+
+TEST_CASE("io: the region directory is checked before writing and region files are written atomically", "[io][split]") {
+  Temp_dir dir;
+  Mesh_data m = octahedron();
+  m.face_patch = {0, 0, 0, 0, 1, 1, 1, 1};
+  const std::string file = dir.write("a-file", "x");
+  require_invalid([&] { meshfit::check_region_directory(file, Mesh_format::ply, {}); }, 0, "is not a directory");
+  require_invalid([&] { meshfit::write_region_meshes(file, m, Mesh_format::ply); }, 0, "is not a directory");
+  CHECK(read_text(file) == "x");
+  require_invalid([&] { meshfit::check_region_directory(dir.file("no/such"), Mesh_format::ply, {}); }, 0,
+                  "neither does its parent");
+  // An input where a region file would go is refused, whatever the regions turn out to be.
+  std::filesystem::create_directory(dir.file("regions"));
+  const std::string in12 = dir.write("regions/region_12.obj", "v 0 0 0\n");
+  require_invalid([&] { meshfit::check_region_directory(dir.file("regions"), Mesh_format::obj, {in12}); }, 0,
+                  "refusing to overwrite");
+  meshfit::check_region_directory(dir.file("regions"), Mesh_format::ply, {in12});  // another extension: fine
+  meshfit::check_region_directory(dir.file("new"), Mesh_format::ply, {});         // created when writing
+  CHECK_FALSE(std::filesystem::exists(dir.file("new")));
+  const auto written = meshfit::write_region_meshes(dir.file("new"), m, Mesh_format::ply);
+  REQUIRE(written.size() == 2);
+  for (const auto& r : written) {
+    const Mesh_data back = meshfit::read_mesh_data(dir.file("new/" + meshfit::region_file_name(r.region, Mesh_format::ply)));
+    CHECK(back.triangles == r.mesh.triangles);
+    CHECK(back.face_patch == r.mesh.face_patch);
+    CHECK(back.points.size() == 5);  // four around the equator and one pole
+  }
+  // No temporary file left behind.
+  std::size_t entries = 0;
+  for (const auto& e : std::filesystem::directory_iterator(dir.file("new"))) entries += (void(e), 1);
+  CHECK(entries == 2);
+}

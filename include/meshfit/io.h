@@ -34,14 +34,17 @@
 namespace meshfit {
 
 /// File formats. `vtp` (VTK XML PolyData) and `vtk` (legacy VTK, an unstructured grid) are output
-/// formats only.
-enum class Mesh_format { off, obj, ply, stl, vtp, vtk };
+/// formats only; `ase` (3ds Max ASCII Scene Export, the format the thesis's system read) is an
+/// input format only.
+enum class Mesh_format { off, obj, ply, stl, vtp, vtk, ase };
 
-/// The format named by the file's extension (`.off`, `.obj`, `.ply`, `.stl`, `.vtp`, `.vtk`, any
-/// case).
+/// The format named by the file's extension (`.off`, `.obj`, `.ply`, `.stl`, `.vtp`, `.vtk`,
+/// `.ase`, any case).
 /// \throws Invalid_input naming the file for any other extension.
 Mesh_format mesh_format_of(const std::string& path);
 const char* to_string(Mesh_format format);
+/// The file extension of `format`, without the dot, in lower case (`"ply"`).
+const char* extension_of(Mesh_format format);
 
 /// A triangle mesh as files hold it: vertices in file order, triangles as vertex indices, and
 /// optionally a region (patch) per triangle and a set of curve edges.
@@ -63,11 +66,24 @@ struct Mesh_read_report {
   /// Edges the file lists that are not curve edges: a PLY `edge` element without an integer
   /// property `curve` (as CGAL's write_PLY writes every edge), or instances whose `curve` is 0.
   std::size_t unflagged_edges_ignored = 0;
+  /// Attributes the file carries that meshfit reads (and checks) but does not keep, each as a
+  /// short phrase naming the attribute and how the file spells it, in the order first met:
+  /// "texture coordinates (vt)", "vertex normals (nx ny nz)", "vertex colours (COFF)", ….
+  std::vector<std::string> dropped_attributes;
 };
 
 /// Reads a mesh file in any supported format (chosen by the extension). Curve edges are OBJ `l`
 /// lines and PLY `edge` instances (properties `vertex1`, `vertex2`) whose integer property `curve`
 /// is nonzero; an `edge` element without a `curve` property lists no curve edge.
+///
+/// ASE (`.ase`): the triangles of every `*MESH` block directly inside a `*GEOMOBJECT` (its
+/// `*MESH_VERTEX_LIST` of `*MESH_VERTEX i x y z` and `*MESH_FACE_LIST` of
+/// `*MESH_FACE i: A: a B: b C: c …`), all objects merged in file order: the vertices of an object
+/// follow those of the objects before it, and its face indices are offset accordingly. The
+/// coordinates are taken as written (3ds Max exports them in world coordinates); materials,
+/// mapping, normals and animation are skipped (reported in `dropped_attributes`). Counts must
+/// match `*MESH_NUMVERTEX`/`*MESH_NUMFACES`, vertices and faces must be numbered 0, 1, … in order,
+/// and face corners must name vertices of their own object.
 /// \throws Invalid_input naming the file and line or byte offset for any malformed content.
 Mesh_data read_mesh_data(const std::string& path, Mesh_read_report* report = nullptr);
 /// Reads from a stream; `name` is used in error messages.
@@ -123,6 +139,46 @@ void write_curve_edges(const std::string& path, const Mesh_data& mesh,
 /// \throws Invalid_input when `output` names the same file as one of `inputs` (also through
 ///         links or different spellings of the path).
 void check_output_path(const std::string& output, const std::vector<std::string>& inputs);
+
+// ---- one mesh per region ------------------------------------------------------------------------
+
+/// One region of a mesh as a mesh of its own (see split_by_region).
+struct Region_mesh {
+  int region = 0;  ///< the region id (`face_patch` value) of every face
+  /// The region's faces, in the order of the full mesh, and the vertices they use, numbered
+  /// 0, 1, … in increasing order of their index in the full mesh; `face_patch` holds `region` for
+  /// every face; no curve edges.
+  Mesh_data mesh;
+  std::vector<std::size_t> vertex_in_full;  ///< local vertex i is vertex vertex_in_full[i] of the full mesh
+  std::vector<std::size_t> face_in_full;    ///< local face f is face face_in_full[f] of the full mesh
+};
+
+/// Splits `mesh` by region: one Region_mesh per distinct value of `face_patch`, in increasing
+/// order of the value (a mesh without `face_patch` is one region, 0). Vertices no face uses are
+/// in no region. Every face of `mesh` is in exactly one Region_mesh.
+/// \throws Invalid_input when `face_patch` has the wrong size or a triangle refers to a missing
+///         vertex.
+std::vector<Region_mesh> split_by_region(const Mesh_data& mesh);
+
+/// The file name of region `region` in `format`: `region_<k>.<ext>` (`region_-1.<ext>` for the
+/// faces of no region, id -1).
+std::string region_file_name(int region, Mesh_format format);
+
+/// Checks, before any work, that the region meshes of write_region_meshes can go to `dir`: `dir`
+/// is an existing writable directory, or does not exist and its parent is an existing writable
+/// directory (it is created when writing), and none of `protected_paths` (the inputs and the other
+/// outputs) is a file write_region_meshes could write in it (`region_<k>.<ext>`, `regions.json`).
+/// \throws Invalid_input naming `dir` otherwise (for example when it exists and is not a
+///         directory).
+void check_region_directory(const std::string& dir, Mesh_format format,
+                            const std::vector<std::string>& protected_paths);
+
+/// Writes each Region_mesh of split_by_region(mesh) to `dir`/region_file_name(k, format) with
+/// write_mesh_data (atomically, never over `options.protected_paths`), creating `dir` (not its
+/// parents) when it is missing. Returns the regions written, in the order of the files.
+/// \throws Invalid_input as check_region_directory and write_mesh_data do.
+std::vector<Region_mesh> write_region_meshes(const std::string& dir, const Mesh_data& mesh, Mesh_format format,
+                                             const Write_options& options = Write_options());
 
 // ---- TriangleMesh front end ---------------------------------------------------------------------
 

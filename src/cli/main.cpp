@@ -28,6 +28,7 @@
 #include <sstream>
 
 #include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <map>
 #include <new>
@@ -67,13 +68,16 @@ struct Option_spec {
 
 // Every option of every command, described once.
 const Option_spec option_specs[] = {
-    {"--template", "MESH", "template mesh (.off, .obj, .ply, .stl); for partition and smooth, the mesh to work on"},
+    {"--template", "MESH", "template mesh (.off, .obj, .ply, .stl, .ase); for partition and smooth, the mesh to work on"},
     {"--curves", "CURVES", "curve network: .polylines.txt (N x1 y1 z1 ...), or the curve edges of an .obj (l lines) "
                            "or .ply (edges flagged curve)"},
     {"--correspondences", "PAIRS", "pairs, one per line: 'i x y z' (template vertex i, network point) or 'i @k' "
                                    "(network vertex k)"},
     {"--output", "OUT", "output mesh: .ply (patch_id per face), .obj (g region_<k>), .vtp/.vtk (cell data region "
                         "and curve), .off, .stl; the curve edges go to OUT.curves.polylines.txt"},
+    {"--split-regions", "DIR", "also write one mesh per region to DIR: region_<k>.<ext> in the output's format (the "
+                               "region's faces and the vertices they use) and regions.json (file, face and vertex "
+                               "counts, and each local vertex's index in the output); DIR is created if missing"},
     {"--report", "R.json", "write a JSON report (doc/report.md), also when the run fails; '-' for stdout"},
     {"--merge-tolerance", "X", "curve points closer than X times the network's bounding-box diagonal are one network "
                                "vertex (default 1e-9)"},
@@ -120,13 +124,14 @@ const std::vector<Command_spec>& command_specs() {
   static const std::vector<Command_spec> specs{
       {"fit", "Runs the whole pipeline: deform, partition, smooth, verify.",
        {"--template", "--curves", "--correspondences", "--output"},
-       join(join(join(common, deform_opts), smooth_opts), {"--allow-defects", "--no-self-intersection-check"})},
+       join(join(join(common, deform_opts), smooth_opts),
+            {"--allow-defects", "--no-self-intersection-check", "--split-regions"})},
       {"deform", "Stage 1: moves the template onto the curves (coarse and fine levels, flip prevention).",
        {"--template", "--curves", "--correspondences", "--output"},
        join(join(common, deform_opts), {"--coarse-only"})},
       {"partition", "Stage 2: makes the network's segments mesh edges and labels the regions they bound.",
        {"--template", "--curves", "--output"},
-       common},
+       join(common, {"--split-regions"})},
       {"smooth", "Stage 3: tangential smoothing (thesis ch. 4); the boundary, curve edges and, with --curves, the "
                  "network's vertices and segments stay fixed.",
        {"--template", "--output"},
@@ -425,6 +430,7 @@ struct Pending_report {
   std::string path, command;
   std::string stage = "read";  ///< the stage running (from the progress callback)
   Json inputs = Json::object(), outputs = Json::object();
+  Json warnings = Json::array();  ///< warnings known before the command's figures (reading)
   bool written = false;
 } pending_report;
 
@@ -448,7 +454,7 @@ Json report_skeleton(const std::string& command, const std::string& failure, con
   j["counts"] = Json::object();
   j["quality"] = Json::object();
   j["details"] = Json::object();
-  j["warnings"] = Json::array();
+  j["warnings"] = pending_report.warnings;
   return j;
 }
 
@@ -472,16 +478,37 @@ std::string check_outputs(const Command_line& cl, const std::vector<std::string>
     meshfit::check_output_path(curves, others);
     others.push_back(curves);
   }
-  if (!cl.values.count("--report")) return "";
-  const std::string& report_path = cl.values.at("--report");
-  if (report_path != "-") {
-    meshfit::check_output_path(report_path, others);
-    for (const std::string& o : others)
-      if (o != report_path) meshfit::check_output_path(o, {report_path});
+  pending_report.outputs["regions"] = nullptr;
+  std::string report_path;
+  if (cl.values.count("--report")) {
+    report_path = cl.values.at("--report");
+    if (report_path != "-") {
+      meshfit::check_output_path(report_path, others);
+      for (const std::string& o : others)
+        if (o != report_path) meshfit::check_output_path(o, {report_path});
+      others.push_back(report_path);
+    }
   }
+  // The region meshes' directory, with none of the other paths where a region file would go.
+  if (cl.values.count("--split-regions"))
+    meshfit::check_region_directory(cl.values.at("--split-regions"), meshfit::mesh_format_of(output), others);
+  if (report_path.empty()) return "";
   pending_report.path = report_path;
   pending_report.command = cl.command;
   return report_path;
+}
+
+/// The path of the index of the region meshes (`--split-regions DIR`): DIR/regions.json.
+std::string regions_index_path(const std::string& dir) { return (std::filesystem::path(dir) / "regions.json").string(); }
+
+/// The warnings of a template read: every attribute the reader read past and the output does not
+/// carry, into the report (every report, failures too) and on stderr.
+void warn_dropped_attributes(const meshfit::Mesh_read_report& read, const std::string& path, bool quiet) {
+  for (const std::string& a : read.dropped_attributes) {
+    const std::string w = path + ": " + a + " are read and not carried to the output";
+    pending_report.warnings.push_back(w);
+    if (!quiet) std::cerr << "meshfit: " << pending_report.command << ": warning: " << w << "\n";
+  }
 }
 
 void write_report(const std::string& report_path, const Json& report) {
@@ -528,12 +555,55 @@ void write_output(const Command_line& cl, const meshfit::Mesh_data& out, const s
       std::cerr << "meshfit: " << cl.command << ": wrote " << curves << " (" << out.curve_edges.size()
                 << " curve edges)\n";
   }
+  if (cl.values.count("--split-regions")) {
+    // One mesh per region in the output's format, and the index that maps their vertices back.
+    const std::string& dir = cl.values.at("--split-regions");
+    const meshfit::Mesh_format format = meshfit::mesh_format_of(output);
+    options.protected_paths.back() = output;
+    if (!cl.curves_in_mesh) options.protected_paths.push_back(meshfit::curve_edges_path(output));
+    const std::vector<meshfit::Region_mesh> regions = meshfit::write_region_meshes(dir, out, format, options);
+    Json index;
+    index["schema"] = "meshfit-regions";
+    index["schema_version"] = 1;
+    index["mesh"] = output;
+    index["vertices"] = out.points.size();
+    index["faces"] = out.triangles.size();
+    index["regions"] = Json::array();
+    for (const meshfit::Region_mesh& r : regions)
+      index["regions"].push_back({{"region", r.region},
+                                  {"file", meshfit::region_file_name(r.region, format)},
+                                  {"faces", r.mesh.triangles.size()},
+                                  {"vertices", r.mesh.points.size()},
+                                  {"vertex_in_mesh", r.vertex_in_full}});
+    const std::string index_path = regions_index_path(dir);
+    meshfit::check_output_path(index_path, options.protected_paths);
+    // One line per region (its vertex map can be long), the rest as the report is laid out.
+    std::string text = "{\n";
+    for (auto it = index.begin(); it != index.end(); ++it) {
+      text += "  " + Json(it.key()).dump() + ": ";
+      if (it.key() != "regions") {
+        text += it.value().dump(-1, ' ', false, Json::error_handler_t::replace) + ",\n";
+        continue;
+      }
+      text += "[";
+      for (std::size_t k = 0; k < it.value().size(); ++k)
+        text += std::string(k ? "," : "") + "\n    " + it.value()[k].dump(-1, ' ', false, Json::error_handler_t::replace);
+      text += "\n  ]\n";
+    }
+    text += "}\n";
+    meshfit::internal::write_file_atomically(index_path, [&](std::ostream& os) { os << text; });
+    if (!cl.quiet)
+      std::cerr << "meshfit: " << cl.command << ": wrote " << regions.size() << " region meshes and " << index_path
+                << "\n";
+  }
 }
 
 /// Fills the report's `outputs.curves` with the curve file the run will write (after work).
 void note_curve_output(const Command_line& cl, const meshfit::Mesh_data& out, Json& report) {
   if (!cl.curves_in_mesh && !out.curve_edges.empty())
     report["outputs"]["curves"] = meshfit::curve_edges_path(cl.values.at("--output"));
+  if (cl.values.count("--split-regions"))
+    report["outputs"]["regions"] = regions_index_path(cl.values.at("--split-regions"));
 }
 
 meshfit::Progress_callback progress_printer() {
@@ -639,7 +709,7 @@ struct Fit_inputs {
 void read_fit_inputs(const Command_line& cl, Fit_inputs& in) {
   const std::string& template_path = cl.values.at("--template");
   const auto t0 = std::chrono::steady_clock::now();
-  meshfit::read_triangle_mesh(template_path, in.tm);
+  warn_dropped_attributes(meshfit::read_triangle_mesh(template_path, in.tm), template_path, cl.quiet);
   in.network = meshfit::read_curve_network(cl.values.at("--curves"), merge_tolerance(cl));
   in.pairs = meshfit::read_correspondences(cl.values.at("--correspondences"), in.network);
   const meshfit::Mesh_data template_data = meshfit::to_mesh_data(in.tm);
@@ -747,7 +817,7 @@ int run_partition(const Command_line& cl) {
 
   Mesh tm;
   const auto t0 = std::chrono::steady_clock::now();
-  meshfit::read_triangle_mesh(mesh_path, tm);
+  warn_dropped_attributes(meshfit::read_triangle_mesh(mesh_path, tm), mesh_path, cl.quiet);
   const meshfit::Curve_network network = meshfit::read_curve_network(curves_path, merge_tolerance(cl));
   if (tm.number_of_faces() == 0)
     throw meshfit::Invalid_input(meshfit::Input_location{mesh_path, 0, meshfit::Input_location::no_offset},
@@ -853,6 +923,7 @@ int run_smooth(const Command_line& cl) {
   const auto t0 = std::chrono::steady_clock::now();
   meshfit::Mesh_read_report read_report;
   meshfit::Mesh_data data = meshfit::read_mesh_data(template_path, &read_report);
+  warn_dropped_attributes(read_report, template_path, cl.quiet);
   // partition's output keeps its curve edges beside it unless --curves-in-mesh: they are the
   // constraints all the same.
   const std::string curves_beside = meshfit_cli::add_curve_edges_beside(data, template_path);
