@@ -9,6 +9,7 @@
 #include <meshfit/displacement.h>
 #include <meshfit/exceptions.h>
 #include <meshfit/flip.h>
+#include <meshfit/internal/angle_flips.h>
 #include <meshfit/internal/clear_mesh.h>
 #include <meshfit/internal/resample_network.h>
 #include <meshfit/internal/stage_support.h>
@@ -1195,12 +1196,7 @@ Deformation_report fine_on_surface(TriangleMesh& tm, const Curve_network& networ
   // one flip per edge and pass, 3 passes.
   auto smallest_angle = [&](typename GT::halfedge_descriptor h) {
     const auto c = s.corners(face(h, tm));
-    double a = CGAL_PI;
-    for (int k = 0; k < 3; ++k) {
-      const Vector_3 e1 = after[c[(k + 1) % 3]] - after[c[k]], e2 = after[c[(k + 2) % 3]] - after[c[k]];
-      a = std::min(a, std::atan2(std::sqrt(CGAL::cross_product(e1, e2).squared_length()), e1 * e2));
-    }
-    return a;
+    return internal::smallest_angle(after[c[0]], after[c[1]], after[c[2]]);
   };
   const double sliver = 5 * CGAL_PI / 180;
   for (int pass = 0; pass < 3; ++pass) {
