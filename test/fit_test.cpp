@@ -340,3 +340,11 @@ TEST_CASE("fit: edge flips leave a bent surface's shape alone", "[fit][flips]") 
   meshfit::internal::flip_for_angles(tm, get(CGAL::vertex_point, tm), curve, 20 * CGAL_PI / 180);
   CHECK(one_side(meshfit::to_mesh_data(tm)) <= before);
 }
+
+TEST_CASE("fit: edge flips leave squares alone (both diagonals equal up to rounding)", "[fit][flips]") {
+  Mesh tm;
+  meshfit::build_triangle_mesh(meshfit_test::grid(8), tm);
+  auto curve = get(CGAL::dynamic_edge_property_t<bool>(), tm);
+  for (auto e : tm.edges()) put(curve, e, false);
+  CHECK(meshfit::internal::flip_for_angles(tm, get(CGAL::vertex_point, tm), curve, 20 * CGAL_PI / 180) == 0);
+}

@@ -31,7 +31,8 @@ inline double smallest_angle(const Point_3& a, const Point_3& b, const Point_3& 
 
 /// Lawson's flips for the smallest angle on a surface: an interior edge u-v that is no curve edge
 /// (`constrained`) is flipped to x-y, the other diagonal of the quadrilateral v x u y of its two
-/// faces, when that raises the smaller of the two faces' smallest angles, and
+/// faces, when that raises the smaller of the two faces' smallest angles (by 1e-6 radians at
+/// least), and
 /// - the quadrilateral is nearly flat: the normals of the two faces, before and after, are within
 ///   `max_dihedral` radians of each other (the surface keeps its shape to a small fraction of an
 ///   edge);
@@ -75,7 +76,9 @@ std::size_t flip_for_angles(TriangleMesh& tm, const VPM& vpm, const ECM& constra
     const Point_3 pu = point(u), pv = point(v), px = point(x), py = point(y);
     const double before = std::min(smallest_angle(pu, pv, px), smallest_angle(pv, pu, py));
     const double after = std::min(smallest_angle(pv, px, py), smallest_angle(px, pu, py));
-    if (!(after > before)) continue;
+    // A gain of a millionth of a radian at least: two diagonals of equal angles (a square) differ
+    // only by rounding, and would be flipped back and forth.
+    if (!(after > before + 1e-6)) continue;
     const Vector_3 n1 = normal(pu, pv, px), n2 = normal(pv, pu, py), m1 = normal(pv, px, py), m2 = normal(px, pu, py);
     if (!within(n1, n2) || !within(m1, m2)) continue;
     const Vector_3 N = n1 / std::sqrt(n1.squared_length()) + n2 / std::sqrt(n2.squared_length());
