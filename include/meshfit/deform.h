@@ -499,14 +499,10 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
                                           const NamedParameters& np = CGAL::parameters::default_values()) {
   auto vpm = internal::vertex_point_map_of(tm, np);
   internal::check_pairs(pairs, num_vertices(tm), num_faces(tm), network);
-  double length = 0;
+  const double h = internal::mean_edge_length(tm, vpm);
   std::vector<Segment_3> border;
-  for (auto e : edges(tm)) {
-    const Segment_3 edge(get(vpm, source(e, tm)), get(vpm, target(e, tm)));
-    length += std::sqrt(edge.squared_length());
-    if (is_border(e, tm)) border.push_back(edge);
-  }
-  const double h = length / double(num_edges(tm));
+  for (auto e : edges(tm))
+    if (is_border(e, tm)) border.emplace_back(get(vpm, source(e, tm)), get(vpm, target(e, tm)));
   // Segments with both ends near the border (nearer to it than half an edge more than to the
   // surface, as in step 1) are not cut: a curve along the border becomes the border arc (step 2),
   // whatever the length of its segments.
@@ -645,6 +641,7 @@ Deformation_report deform_template_unscaled(TriangleMesh& tm, const Curve_networ
   std::size_t subdivisions = 0;
   const bool surface_refined = level == Fine_level::surface && density == Curve_density::refine && !coarse_only;
   if (surface_refined) {
+    // Before the subdivision, whose new vertices would make an out-of-range template index valid.
     check_pairs(pairs, num_vertices(tm), num_faces(tm), network);
     while (subdivisions < 3 && num_vertices(tm) < 2 * network.number_of_vertices() &&
            4 * num_faces(tm) <= max_subdivided_faces) {

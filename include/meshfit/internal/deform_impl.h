@@ -254,6 +254,17 @@ double bbox_diagonal(const TriangleMesh& tm, const VPM& vpm) {
                    CGAL::square(box.zmax() - box.zmin()));
 }
 
+/// The mean length of the mesh's edges (0 when it has none): the scale of the template against
+/// which the fine level cuts long segments and refuses oversampled curves.
+template <typename TriangleMesh, typename VPM>
+double mean_edge_length(const TriangleMesh& tm, const VPM& vpm) {
+  double length = 0;
+  for (auto e : edges(tm))
+    length += std::sqrt(CGAL::squared_distance(point_of<TriangleMesh>(vpm, source(e, tm)),
+                                               point_of<TriangleMesh>(vpm, target(e, tm))));
+  return num_edges(tm) > 0 ? length / static_cast<double>(num_edges(tm)) : 0;
+}
+
 /// "polyline 3" or "polylines 1, 4, 7" (1-based, in file order), at most ten named.
 inline std::string name_polylines(const std::vector<std::size_t>& polylines) {
   std::ostringstream os;
@@ -1241,10 +1252,7 @@ constexpr std::size_t max_subdivided_faces = 2000000;
 template <typename TriangleMesh, typename VPM>
 void refuse_oversampled_curves(const TriangleMesh& tm, const VPM& vpm, const Curve_network& network,
                                std::size_t subdivisions) {
-  double edge = 0;
-  for (auto e : edges(tm)) edge += std::sqrt(CGAL::squared_distance(point_of<TriangleMesh>(vpm, source(e, tm)),
-                                                                    point_of<TriangleMesh>(vpm, target(e, tm))));
-  edge /= static_cast<double>(std::max<std::size_t>(num_edges(tm), 1));
+  const double edge = mean_edge_length(tm, vpm);
   std::vector<double> lengths;
   for (const auto& sk : network.segments())
     lengths.push_back(std::sqrt(CGAL::squared_distance(network.point(sk[0]), network.point(sk[1]))));
