@@ -103,7 +103,7 @@ MESHFIT_FUZZ_TARGET(deform) {
     meshfit::build_triangle_mesh(octa, tm);
     const auto density = g.byte() % 2 ? meshfit::Curve_density::drop : meshfit::Curve_density::refine;
     const auto r = meshfit::deform_template(tm, net, pairs,
-                                            meshfit::parameters::curve_density(density, CGAL::parameters::number_of_iterations(4)));
+                                            meshfit::parameters::curve_density(density).flip_prevention_rounds(4));
     MESHFIT_FUZZ_REQUIRE(CGAL::is_valid_polygon_mesh(tm));
     MESHFIT_FUZZ_REQUIRE(CGAL::is_closed(tm));
     for (auto v : tm.vertices()) MESHFIT_FUZZ_REQUIRE(meshfit_fuzz::finite(tm.point(v)));

@@ -348,3 +348,43 @@ TEST_CASE("fit: edge flips leave squares alone (both diagonals equal up to round
   for (auto e : tm.edges()) put(curve, e, false);
   CHECK(meshfit::internal::flip_for_angles(tm, get(CGAL::vertex_point, tm), curve, 20 * CGAL_PI / 180) == 0);
 }
+
+TEST_CASE("fit: number_of_iterations counts smoothing iterations, flip_prevention_rounds stage 1's rounds",
+          "[fit][parameters]") {
+  // number_of_iterations means what it means for smooth_fitted_mesh: 5 smoothing iterations, one
+  // fifth modified mean curvature (1), the rest modified Laplacian (4).
+  {
+    Inputs in = example();
+    const meshfit::Fit_report r = meshfit::fit_template_to_curves(
+        in.tm, in.network, in.pairs, meshfit::parameters::flip_prevention_rounds(3).number_of_iterations(5));
+    CHECK(r.verification.passed());
+    CHECK(r.smoothing.mean_curvature_iterations == 1);
+    CHECK(r.smoothing.laplacian_iterations == 4);
+    CHECK(r.smoothing.iterations == 5);
+  }
+  // Each phase's own count overrides the split.
+  {
+    Inputs in = example();
+    const meshfit::Fit_report r = meshfit::fit_template_to_curves(
+        in.tm, in.network, in.pairs,
+        meshfit::parameters::default_values().number_of_iterations(5).mean_curvature_iterations(2).laplacian_iterations(0));
+    CHECK(r.smoothing.mean_curvature_iterations == 2);
+    CHECK(r.smoothing.laplacian_iterations == 0);
+  }
+  // Negative counts are refused before any work, naming the parameter.
+  for (int which = 0; which < 3; ++which) {
+    Inputs in = example();
+    const Mesh before = in.tm;
+    try {
+      if (which == 0) meshfit::fit_template_to_curves(in.tm, in.network, in.pairs, meshfit::parameters::flip_prevention_rounds(-1));
+      if (which == 1) meshfit::deform_template(in.tm, in.network, in.pairs, meshfit::parameters::flip_prevention_rounds(-2));
+      if (which == 2) meshfit::fit_template_to_curves(in.tm, in.network, in.pairs, CGAL::parameters::number_of_iterations(-3));
+      FAIL("no exception for a negative count");
+    } catch (const meshfit::Invalid_input& e) {
+      const std::string m = e.what();
+      CHECK(m.find(which == 2 ? "number_of_iterations" : "flip_prevention_rounds") != std::string::npos);
+      CHECK(m.find(which == 0 ? "-1" : which == 1 ? "-2" : "-3") != std::string::npos);
+    }
+    CHECK(in.tm.number_of_vertices() == before.number_of_vertices());
+  }
+}

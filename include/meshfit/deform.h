@@ -264,13 +264,13 @@ Deformation_report deform_coarse(TriangleMesh& tm, const Curve_network& network,
 /// moves the template so that each paired vertex lies exactly on its network vertex. When the
 /// motion would flip faces (exact flip counter, judged against the positions before this call),
 /// the network vertices pulling them get mesh vertices of their own at their nearest points on the
-/// surface (local subdivision), and everything is redone, for at most `number_of_iterations`
+/// surface (local subdivision), and everything is redone, for at most `flip_prevention_rounds`
 /// rounds (default 10); `report.remaining_flips` tells whether that was enough. With
 /// Curve_density::refine (default) network vertices that lost their nearest template vertex get a
 /// vertex the same way; with Curve_density::drop they are dropped (reported), and only flip
 /// prevention adds vertices. New vertices come after the existing ones. Vertices of no face play
 /// no part (no pair, no motion). Named parameters: `vertex_point_map`, `rbf_kernel`,
-/// `curve_density`, `number_of_iterations`, `memory_limit`, `progress`.
+/// `curve_density`, `flip_prevention_rounds`, `memory_limit`, `progress`.
 /// \throws Algorithm_failure before any work when a polyline lies entirely far from the template
 ///         (internal::check_polylines_near); when the dense RBF would exceed `memory_limit`; when
 ///         flip prevention would grow the mesh past 8 × (template + network vertices).
@@ -285,8 +285,7 @@ Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
   const Rbf_kernel kernel = choose_parameter(get_parameter(np, internal_np::rbf_kernel), Rbf_kernel::linear);
   const Curve_density density =
       choose_parameter(get_parameter(np, internal_np::curve_density), Curve_density::refine);
-  const std::size_t max_rounds =
-      static_cast<std::size_t>(choose_parameter(get_parameter(np, CGAL::internal_np::number_of_iterations), 10));
+  const std::size_t max_rounds = internal::flip_prevention_rounds(np);
   const auto progress = get_parameter(np, internal_np::progress);
   const std::size_t memory_limit = choose_parameter(get_parameter(np, internal_np::memory_limit), std::size_t(0));
 
@@ -475,7 +474,7 @@ Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
 ///      motion is made again in four equal parts, with step 4a's untangling after each;
 ///   4. faces that turn over against the coarse surface's normals, or fold with a neighbour,
 ///      are repaired: the free vertices around them are relaxed towards their neighbours' mean
-///      (up to 3 rings, for at most `number_of_iterations` rounds, default 10, the best state
+///      (up to 3 rings, for at most `flip_prevention_rounds` rounds, default 10, the best state
 ///      kept), and an edge of a bad face whose corners are all held is flipped when both new
 ///      faces are good. `report.remaining_flips` and `report.remaining_folds` are what is left.
 /// Vertices are added only in step 1 (at most one per network vertex and added point), after the
@@ -484,7 +483,7 @@ Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
 /// better result is kept (`approach_retried`; the first on a tie). The mesh is then rebuilt in
 /// place, its vertices and faces in their order: the values of the caller's own properties on it
 /// are not kept.
-/// Named parameters: `vertex_point_map`, `number_of_iterations`, `progress`.
+/// Named parameters: `vertex_point_map`, `flip_prevention_rounds`, `progress`.
 /// \throws Invalid_input for pairs out of range, or two pairs that give one network vertex two
 ///         template vertices (or the reverse).
 /// \throws Algorithm_failure, naming the polylines (1-based, in file order), before any work

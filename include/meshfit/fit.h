@@ -148,8 +148,10 @@ std::optional<std::size_t> expected_regions(const TriangleMesh& tm, const Curve_
 ///   `vertex_point_map` (of `tm`);
 ///   `edge_is_constrained_map`, `face_patch_map` (outputs: curve edges, regions of the result);
 ///   stage 1: `fine_level` (Fine_level::surface), `rbf_kernel`, `curve_density`,
-///   `number_of_iterations` (rounds of flip prevention or untangling, 10), `memory_limit`;
-///   stage 3: `mean_curvature_iterations` (20), `laplacian_iterations` (80), `step_size` (1);
+///   `flip_prevention_rounds` (rounds of flip prevention or untangling, 10), `memory_limit`;
+///   stage 3: `number_of_iterations` (100, split as smooth_fitted_mesh splits it: one fifth
+///   modified mean curvature, the rest modified Laplacian), `mean_curvature_iterations` and
+///   `laplacian_iterations` (each phase's count, overriding that split), `step_size` (1);
 ///   `check_self_intersections` (bool, default true: the most expensive check);
 ///   `progress` (called by every stage with its own stage name, and by the verification as "fit").
 /// \throws Invalid_input for pairs out of range or that define no interpolant;
@@ -170,10 +172,16 @@ Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& input_n
   const Curve_density density =
       choose_parameter(get_parameter(np, internal_np::curve_density), Curve_density::refine);
   const Fine_level fine_level = choose_parameter(get_parameter(np, internal_np::fine_level), Fine_level::surface);
-  const int rounds = choose_parameter(get_parameter(np, CGAL::internal_np::number_of_iterations), 10);
+  const std::size_t rounds = internal::flip_prevention_rounds(np);
   const std::size_t memory_limit = choose_parameter(get_parameter(np, internal_np::memory_limit), std::size_t(0));
-  const std::size_t mc_iterations = choose_parameter(get_parameter(np, internal_np::mean_curvature_iterations), 20);
-  const std::size_t lap_iterations = choose_parameter(get_parameter(np, internal_np::laplacian_iterations), 80);
+  // Smoothing iterations as smooth_fitted_mesh counts them (and checks them, before any work).
+  const std::size_t smoothing = internal::iterations_parameter(np, 100);
+  const std::size_t mc_iterations = internal::checked_count(
+      choose_parameter(get_parameter(np, internal_np::mean_curvature_iterations), smoothing / 5),
+      "mean_curvature_iterations");
+  const std::size_t lap_iterations = internal::checked_count(
+      choose_parameter(get_parameter(np, internal_np::laplacian_iterations), smoothing - smoothing / 5),
+      "laplacian_iterations");
   const double step = choose_parameter(get_parameter(np, internal_np::step_size), 1.0);
   const bool check_self_intersections =
       choose_parameter(get_parameter(np, internal_np::check_self_intersections), true);
@@ -208,7 +216,7 @@ Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& input_n
           .fine_level(fine_level)
           .progress(progress)
           .memory_limit(memory_limit)
-          .number_of_iterations(rounds));
+          .flip_prevention_rounds(rounds));
   report.deform_seconds = internal::seconds_since(t);
   if (report.deformation.orientation_reversed)
     throw Algorithm_failure("deform", orientation_reversal_message(report.deformation.coarse_affine_determinant));

@@ -1,7 +1,7 @@
 // meshfit: named parameters of meshfit's own, chaining with each other and with CGAL's.
 //
 // A pack is started by any meshfit parameter function and read left to right:
-//   meshfit::parameters::rbf_kernel(meshfit::Rbf_kernel::cubic).progress(cb).number_of_iterations(5)
+//   meshfit::parameters::rbf_kernel(meshfit::Rbf_kernel::cubic).progress(cb).flip_prevention_rounds(5)
 // Every meshfit tag and every CGAL 5.5 tag (number_of_iterations, vertex_point_map, geom_traits,
 // vertex_is_constrained_map, edge_is_constrained_map, face_patch_map, vertex_index_map, …) is a
 // member function of the pack (meshfit::Named_parameters), which derives from
@@ -31,9 +31,13 @@
 //   | check_self_intersections  | bool: fit's final verification | true                           |
 //   | fine_level        | meshfit::Fine_level (deform.h)          | Fine_level::surface            |
 //   | memory_limit      | std::size_t, bytes (memory_limit.h)     | default_memory_limit(): RAM / 8|
-// CGAL parameters meshfit reads: vertex_point_map; number_of_iterations (deform: the most flip
-// prevention rounds, default 10; smooth: the iterations); face_patch_map and
-// edge_is_constrained_map (io; smooth: curve edges); vertex_is_constrained_map (smooth).
+//   | flip_prevention_rounds | int ≥ 0: deform's and fit's most   | 10                             |
+//   |                   | rounds of flip prevention (thesis level)|                                |
+//   |                   | or untangling (surface level)           |                                |
+// CGAL parameters meshfit reads: vertex_point_map; number_of_iterations (always smoothing
+// iterations: smooth's flows, and fit's smoothing, split as smooth_fitted_mesh splits it; deform
+// does not read it); face_patch_map and edge_is_constrained_map (io; smooth: curve edges);
+// vertex_is_constrained_map (smooth).
 #ifndef MESHFIT_PARAMETERS_H
 #define MESHFIT_PARAMETERS_H
 
@@ -78,7 +82,8 @@ using Progress_callback = std::function<bool(const Progress_step&)>;
   X(laplacian_iterations)           \
   X(check_self_intersections)       \
   X(fine_level)                     \
-  X(memory_limit)
+  X(memory_limit)                   \
+  X(flip_prevention_rounds)
 
 namespace internal_np {
 #define MESHFIT_NAMED_PARAMETER_TAG(NAME) enum NAME##_t { NAME };

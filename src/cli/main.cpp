@@ -753,7 +753,7 @@ int run_deform(const Command_line& cl) {
             .coarse_only(cl.coarse_only)
             .progress(progress)
             .memory_limit(options.memory_limit)
-            .number_of_iterations(rounds));
+            .flip_prevention_rounds(rounds));
   } catch (const meshfit::Numerical_error& e) {
     failure = e.what();
   } catch (const meshfit::Algorithm_failure& e) {
@@ -1085,7 +1085,7 @@ int run_fit(const Command_line& cl) {
             .check_self_intersections(!cl.no_self_intersection_check)
             .progress(progress_printer())
             .memory_limit(d.memory_limit)
-            .number_of_iterations(d.rounds)
+            .flip_prevention_rounds(d.rounds)
             .edge_is_constrained_map(curve)
             .face_patch_map(region));
   } catch (const meshfit::Numerical_error& e) {

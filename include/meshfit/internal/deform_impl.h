@@ -505,8 +505,7 @@ Deformation_report fine_on_surface(TriangleMesh& tm, const Curve_network& networ
   using CGAL::parameters::get_parameter;
   using GT = boost::graph_traits<TriangleMesh>;
   const auto t0 = std::chrono::steady_clock::now();
-  const std::size_t max_rounds =
-      static_cast<std::size_t>(choose_parameter(get_parameter(np, CGAL::internal_np::number_of_iterations), 10));
+  const std::size_t max_rounds = internal::flip_prevention_rounds(np);
   const auto progress = get_parameter(np, internal_np::progress);
   // Stage 2's progress during the embedding is reported as this stage's.
   Progress_callback forward = [](const Progress_step&) { return true; };

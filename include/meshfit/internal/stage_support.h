@@ -12,6 +12,7 @@
 
 #include <chrono>
 #include <cstddef>
+#include <string>
 #include <type_traits>
 #include <utility>
 
@@ -64,6 +65,21 @@ template <typename TriangleMesh, typename VPM>
 Point_3 point_of(const VPM& vpm, typename boost::graph_traits<TriangleMesh>::vertex_descriptor v) {
   const auto& p = get(vpm, v);
   return Point_3(p.x(), p.y(), p.z());
+}
+
+/// The `flip_prevention_rounds` named parameter (default 10), read by deform's fine levels and by fit.
+/// \throws Invalid_input when it is negative.
+template <typename NamedParameters>
+std::size_t flip_prevention_rounds(const NamedParameters& np) {
+  using CGAL::parameters::choose_parameter;
+  using CGAL::parameters::get_parameter;
+  const auto rounds = choose_parameter(get_parameter(np, internal_np::flip_prevention_rounds), 10);
+  static_assert(std::is_integral_v<decltype(rounds)>, "meshfit: flip_prevention_rounds must be an integer");
+  if constexpr (std::is_signed_v<decltype(rounds)>) {
+    if (rounds < 0)
+      throw Invalid_input("deform: flip_prevention_rounds must not be negative, not " + std::to_string(rounds));
+  }
+  return static_cast<std::size_t>(rounds);
 }
 
 template <typename TriangleMesh, typename NamedParameters>
