@@ -3,10 +3,13 @@
 #include "fuzz_common.h"
 
 #include <meshfit/deform.h>
+#include <meshfit/fit.h>
 #include <meshfit/flip.h>
 #include <meshfit/rbf.h>
 
 #include <CGAL/Surface_mesh.h>
+
+#include <optional>
 
 namespace {
 
@@ -56,9 +59,11 @@ MESHFIT_FUZZ_TARGET(rbf) {
   return 0;
 }
 
-MESHFIT_FUZZ_TARGET(deform) {
-  using Mesh = CGAL::Surface_mesh<meshfit::Point_3>;
-  // The template: an octahedron of radius 3 with its faces split 1-to-4 (18 vertices).
+namespace {
+
+// The template of the deform and fit targets: an octahedron of radius 3 with its faces split
+// 1-to-4 (18 vertices).
+const meshfit::Mesh_data& octahedron_template() {
   static const meshfit::Mesh_data octa = [] {
     meshfit::Mesh_data m;
     m.points = {{3, 0, 0}, {-3, 0, 0}, {0, 3, 0}, {0, -3, 0}, {0, 0, 3}, {0, 0, -3}};
@@ -81,37 +86,60 @@ MESHFIT_FUZZ_TARGET(deform) {
     }
     return m;
   }();
-  Grid_reader g{data, size};
+  return octa;
+}
+
+// The stage inputs a byte string decodes to: 1-3 polylines of 2-5 grid points, 4-6 pairs (no
+// template or network vertex twice), a curve density. Throws what Curve_network throws.
+struct Stage_inputs {
+  meshfit::Curve_network network;
+  std::vector<meshfit::Correspondence> pairs;
+  meshfit::Curve_density density = meshfit::Curve_density::refine;
+};
+Stage_inputs decode_stage_inputs(Grid_reader& g) {
   std::vector<meshfit::Curve_network::Polyline> lines(1 + g.byte() % 3);
   for (auto& l : lines) {
     l.resize(2 + g.byte() % 4);
     for (auto& p : l) p = g.point(3);
   }
+  Stage_inputs in{meshfit::Curve_network(lines), {}, meshfit::Curve_density::refine};
+  const std::size_t wanted = 4 + g.byte() % 3;
+  for (std::size_t k = 0; k < wanted; ++k) {
+    meshfit::Correspondence c;
+    c.template_vertex = static_cast<std::size_t>(g.byte()) % octahedron_template().points.size();
+    c.network_vertex = static_cast<std::size_t>(g.byte()) % in.network.number_of_vertices();
+    bool repeated = false;
+    for (const auto& q : in.pairs) repeated = repeated || q.template_vertex == c.template_vertex || q.network_vertex == c.network_vertex;
+    if (!repeated) in.pairs.push_back(c);
+  }
+  in.density = g.byte() % 2 ? meshfit::Curve_density::drop : meshfit::Curve_density::refine;
+  return in;
+}
+
+using Mesh = CGAL::Surface_mesh<meshfit::Point_3>;
+
+void require_valid_closed_finite(const Mesh& tm) {
+  MESHFIT_FUZZ_REQUIRE(CGAL::is_valid_polygon_mesh(tm));
+  MESHFIT_FUZZ_REQUIRE(CGAL::is_closed(tm));
+  for (auto v : tm.vertices()) MESHFIT_FUZZ_REQUIRE(meshfit_fuzz::finite(tm.point(v)));
+}
+
+}  // namespace
+
+MESHFIT_FUZZ_TARGET(deform) {
+  Grid_reader g{data, size};
   try {
-    const meshfit::Curve_network net(lines);
-    std::vector<meshfit::Correspondence> pairs;
-    const std::size_t wanted = 4 + g.byte() % 3;
-    for (std::size_t k = 0; k < wanted; ++k) {
-      meshfit::Correspondence c;
-      c.template_vertex = static_cast<std::size_t>(g.byte()) % octa.points.size();
-      c.network_vertex = static_cast<std::size_t>(g.byte()) % net.number_of_vertices();
-      bool repeated = false;
-      for (const auto& q : pairs) repeated = repeated || q.template_vertex == c.template_vertex || q.network_vertex == c.network_vertex;
-      if (!repeated) pairs.push_back(c);
-    }
+    const Stage_inputs in = decode_stage_inputs(g);
     Mesh tm;
-    meshfit::build_triangle_mesh(octa, tm);
-    const auto density = g.byte() % 2 ? meshfit::Curve_density::drop : meshfit::Curve_density::refine;
-    const auto r = meshfit::deform_template(tm, net, pairs,
-                                            meshfit::parameters::curve_density(density).flip_prevention_rounds(4));
-    MESHFIT_FUZZ_REQUIRE(CGAL::is_valid_polygon_mesh(tm));
-    MESHFIT_FUZZ_REQUIRE(CGAL::is_closed(tm));
-    for (auto v : tm.vertices()) MESHFIT_FUZZ_REQUIRE(meshfit_fuzz::finite(tm.point(v)));
-    for (std::size_t v = 0; v < net.number_of_vertices(); ++v) {
+    meshfit::build_triangle_mesh(octahedron_template(), tm);
+    const auto r = meshfit::deform_template(tm, in.network, in.pairs,
+                                            meshfit::parameters::curve_density(in.density).flip_prevention_rounds(4));
+    require_valid_closed_finite(tm);
+    for (std::size_t v = 0; v < in.network.number_of_vertices(); ++v) {
       const std::size_t t = r.mesh_vertex_of_network_vertex[v];
       if (t == meshfit::Closest_point_assignment::unassigned) continue;
       MESHFIT_FUZZ_REQUIRE(t < tm.number_of_vertices());
-      MESHFIT_FUZZ_REQUIRE(tm.point(Mesh::Vertex_index(static_cast<Mesh::size_type>(t))) == net.point(v));
+      MESHFIT_FUZZ_REQUIRE(tm.point(Mesh::Vertex_index(static_cast<Mesh::size_type>(t))) == in.network.point(v));
     }
   } catch (const meshfit::Invalid_input& e) {
     meshfit_fuzz::check_error(e, "");
@@ -119,6 +147,72 @@ MESHFIT_FUZZ_TARGET(deform) {
   } catch (const meshfit::Algorithm_failure& e) {
     // exit 3 of the command: the algorithm says why it cannot go on
     MESHFIT_FUZZ_REQUIRE(std::string(e.what()).size() > std::string("deform: ").size());
+  }
+  return 0;
+}
+
+// The whole pipeline on the deform target's inputs (same decoding, same corpus format). Promised:
+// on return, a valid closed mesh with finite coordinates, a region for every face, and, when the
+// verification passed, every network vertex exactly at its mesh vertex and every curve edge
+// between two vertices that lie on one segment's line; on an exception, the mesh as it was.
+MESHFIT_FUZZ_TARGET(fit) {
+  Grid_reader g{data, size};
+  std::optional<Stage_inputs> in;
+  try {
+    in = decode_stage_inputs(g);
+  } catch (const meshfit::Invalid_input& e) {
+    meshfit_fuzz::check_error(e, "");
+    return 0;
+  }
+  Mesh tm;
+  meshfit::build_triangle_mesh(octahedron_template(), tm);
+  std::vector<meshfit::Point_3> before;
+  for (auto v : tm.vertices()) before.push_back(tm.point(v));
+  auto curve = tm.add_property_map<Mesh::Edge_index, bool>("e:curve", false).first;
+  auto region = tm.add_property_map<Mesh::Face_index, std::size_t>("f:region", SIZE_MAX).first;
+  auto unchanged = [&] {
+    if (tm.number_of_vertices() != before.size() || tm.number_of_faces() != octahedron_template().triangles.size()) return false;
+    std::size_t i = 0;
+    for (auto v : tm.vertices())
+      if (tm.point(v) != before[i++]) return false;
+    return true;
+  };
+  try {
+    const meshfit::Fit_report r = meshfit::fit_template_to_curves(
+        tm, in->network, in->pairs,
+        meshfit::parameters::curve_density(in->density)
+            .flip_prevention_rounds(4)
+            .number_of_iterations(10)
+            .edge_is_constrained_map(curve)
+            .face_patch_map(region));
+    require_valid_closed_finite(tm);
+    for (auto f : tm.faces()) MESHFIT_FUZZ_REQUIRE(region[f] < std::max<std::size_t>(r.partition.regions, 1));
+    if (r.verification.passed()) {
+      for (std::size_t v = 0; v < in->network.number_of_vertices(); ++v) {
+        const std::size_t t = r.mesh_vertex_of_network_vertex[v];
+        MESHFIT_FUZZ_REQUIRE(t < tm.number_of_vertices());
+        MESHFIT_FUZZ_REQUIRE(tm.point(Mesh::Vertex_index(static_cast<Mesh::size_type>(t))) == in->network.point(v));
+      }
+      // A curve edge joins two points of one segment's line (exact collinearity).
+      for (auto e : tm.edges()) {
+        if (!curve[e]) continue;
+        const meshfit::Point_3 a = tm.point(tm.source(tm.halfedge(e))), b = tm.point(tm.target(tm.halfedge(e)));
+        bool on_a_segment = false;
+        for (const auto& sg : in->network.segments()) {
+          const meshfit::Point_3 &p = in->network.point(sg[0]), &q = in->network.point(sg[1]);
+          on_a_segment = on_a_segment || (CGAL::collinear(p, q, a) && CGAL::collinear(p, q, b));
+        }
+        MESHFIT_FUZZ_REQUIRE(on_a_segment);
+      }
+    }
+  } catch (const meshfit::Invalid_input& e) {
+    meshfit_fuzz::check_error(e, "");
+    MESHFIT_FUZZ_REQUIRE(unchanged());
+  } catch (const meshfit::Numerical_error&) {
+    MESHFIT_FUZZ_REQUIRE(unchanged());
+  } catch (const meshfit::Algorithm_failure& e) {
+    MESHFIT_FUZZ_REQUIRE(std::string(e.what()).size() > std::string("fit: ").size());
+    MESHFIT_FUZZ_REQUIRE(unchanged());
   }
   return 0;
 }

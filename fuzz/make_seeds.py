@@ -73,4 +73,7 @@ put("check", "bad_pairs.txt", off + "@@\n" + curves + "@@\n" + "0 0 0 0\n0 1 0 0
 rng = random.Random(1)
 for t, n in (("flip", 18), ("rbf", 80), ("deform", 60)):
     for k in range(8):
-        put(t, "random_%d" % k, bytes(rng.randrange(256) for _ in range(n)))
+        b = bytes(rng.randrange(256) for _ in range(n))
+        put(t, "random_%d" % k, b)
+        if t == "deform":  # the fit target decodes its input as the deform target does
+            put("fit", "random_%d" % k, b)

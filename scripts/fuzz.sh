@@ -21,7 +21,7 @@ build="$root/build-fuzz"
 CC=clang-14 CXX=clang++-14 cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMESHFIT_FUZZ=ON \
   -DMESHFIT_BUILD_TESTS=OFF -DMESHFIT_BUILD_EXAMPLES=OFF -DMESHFIT_BUILD_BATTERY=OFF >/dev/null
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(off obj ply stl polylines correspondences check flip rbf deform)
+[ ${#targets[@]} -gt 0 ] || targets=(off obj ply stl polylines correspondences check flip rbf deform fit)
 cmake --build "$build" --parallel "$(nproc)" --target "${targets[@]/#/fuzz_}" >/dev/null
 for t in "${targets[@]}"; do
   mkdir -p "$build/corpus/$t" "$root/fuzz/reproducers/$t"
