@@ -388,3 +388,56 @@ TEST_CASE("fit: number_of_iterations counts smoothing iterations, flip_preventio
     CHECK(in.tm.number_of_vertices() == before.number_of_vertices());
   }
 }
+
+TEST_CASE("fit: bunched chain vertices are spaced out along their segment, on it, without turning a face over",
+          "[fit][chains]") {
+  // A segment from (0,0,0) to (1,0,0) whose chain has three inner vertices bunched at its start
+  // (x = 0.01, 0.02, 0.03), between two fans: a vertex above (0.5, 1) and one below (0.5, -1).
+  meshfit::Mesh_data input;
+  const std::vector<double> xs{0, 0.01, 0.02, 0.03, 1};
+  for (double x : xs) input.points.emplace_back(x, 0, 0);
+  input.points.emplace_back(0.5, 1, 0);   // 5: above
+  input.points.emplace_back(0.5, -1, 0);  // 6: below
+  for (std::size_t i = 0; i + 1 < xs.size(); ++i) {
+    input.triangles.push_back({i, i + 1, 5});
+    input.triangles.push_back({i + 1, i, 6});
+  }
+  Mesh tm;
+  meshfit::build_triangle_mesh(input, tm);
+  auto curve = get(CGAL::dynamic_edge_property_t<bool>(), tm);
+  for (auto e : tm.edges()) {
+    const auto a = tm.point(tm.source(tm.halfedge(e))), b = tm.point(tm.target(tm.halfedge(e)));
+    put(curve, e, a.y() == 0 && b.y() == 0);
+  }
+  const meshfit::Curve_network network({{meshfit::Point_3(0, 0, 0), meshfit::Point_3(1, 0, 0)}});
+  const std::vector<std::size_t> mesh_of{0, 4};
+  const std::size_t moves = meshfit::internal::space_chain_vertices(tm, get(CGAL::vertex_point, tm), curve, network,
+                                                                    mesh_of, network.tolerance());
+  const meshfit::Mesh_data out = meshfit::to_mesh_data(tm);
+  CHECK(moves > 0);
+  // The ends and the fans' apexes stay; the inner vertices stay on the segment, in their order,
+  // and no longer bunched.
+  CHECK(out.points[0] == input.points[0]);
+  CHECK(out.points[4] == input.points[4]);
+  CHECK(out.points[5] == input.points[5]);
+  CHECK(out.points[6] == input.points[6]);
+  for (std::size_t i = 1; i < 4; ++i) {
+    CHECK(out.points[i].y() == 0);
+    CHECK(out.points[i].z() == 0);
+    CHECK(out.points[i].x() > out.points[i - 1].x());
+  }
+  double smallest_gap = 1;
+  for (std::size_t i = 0; i < 4; ++i) smallest_gap = std::min(smallest_gap, out.points[i + 1].x() - out.points[i].x());
+  CHECK(smallest_gap > 0.1);
+  CHECK(smallest_angle_deg(input) < 1);
+  CHECK(smallest_angle_deg(out) > 10);
+  // Every face still turns upwards (its normal's z is positive), and the faces still tile the
+  // rhombus of area 1.
+  double area = 0;
+  for (const auto& t : out.triangles) {
+    const double z = CGAL::cross_product(out.points[t[1]] - out.points[t[0]], out.points[t[2]] - out.points[t[0]]).z();
+    CHECK(z > 0);
+    area += z / 2;
+  }
+  CHECK(std::abs(area - 1) < 1e-12);
+}

@@ -12,6 +12,7 @@
 #include <meshfit/exceptions.h>
 #include <meshfit/flip.h>
 #include <meshfit/internal/angle_flips.h>
+#include <meshfit/internal/chain_spacing.h>
 #include <meshfit/io.h>
 #include <meshfit/internal/stage_support.h>
 #include <meshfit/internal/unit_scale.h>
@@ -86,6 +87,9 @@ struct Fit_report {
   double minimum_angle_deg = 0;  ///< smallest angle of the result's triangles
   /// Edges flipped after smoothing to raise the smallest angle (internal::flip_for_angles).
   std::size_t angle_flips = 0;
+  /// Moves of curve chain vertices along their segments, after smoothing, that mended needles
+  /// (internal::space_chain_vertices).
+  std::size_t chain_vertex_moves = 0;
   /// For each network vertex, the index of its mesh vertex (order of vertices(tm)).
   std::vector<std::size_t> mesh_vertex_of_network_vertex;
 };
@@ -249,6 +253,10 @@ Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& input_n
                                                     .progress(progress)
                                                     .edge_is_constrained_map(curve)
                                                     .vertex_is_constrained_map(pinned));
+  // Curve vertices bunched along a segment make needles that smoothing leaves: they are spaced
+  // out along their segments first.
+  report.chain_vertex_moves = internal::space_chain_vertices(work, wvpm, curve, network,
+                                                             report.mesh_vertex_of_network_vertex, network.tolerance());
   // Needles that no vertex motion can mend (a free vertex between two close curve vertices, or
   // two free vertices pressed together) go by flipping edges where the surface is nearly flat.
   report.angle_flips = internal::flip_for_angles(work, wvpm, curve, 20 * CGAL_PI / 180);

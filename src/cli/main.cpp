@@ -1135,7 +1135,8 @@ int run_fit(const Command_line& cl) {
                   {"regions", pr.regions},
                   {"smoothing_iterations", sr.iterations},
                   {"vertices_fixed_in_smoothing", sr.fixed_vertices},
-                  {"angle_flips", r.angle_flips}};
+                  {"angle_flips", r.angle_flips},
+                  {"chain_vertex_moves", r.chain_vertex_moves}};
   js["quality"] = {{"template_vertices", r.template_vertices},
                    {"template_faces", r.template_faces},
                    {"vertices", out.points.size()},
