@@ -140,7 +140,10 @@ std::optional<std::size_t> expected_regions(const TriangleMesh& tm, const Curve_
 ///      untangled; with `fine_level(Fine_level::thesis)` the thesis's fine RBF through
 ///      closest-point pairs and flip prevention; thesis ch. 2);
 ///   2. partition_mesh (every segment a chain of mesh edges, regions labelled; ch. 3);
-///   3. smooth_fitted_mesh with the curve edges and their vertices held (ch. 4);
+///   3. smooth_fitted_mesh with the curve edges and their vertices held (ch. 4); then the inner
+///      vertices of bunched chains slid apart along their segments (internal::space_chain_vertices)
+///      and edges flipped for the smallest angle where the surface is nearly flat
+///      (internal::flip_for_angles);
 ///   4. verification (Fit_verification): network vertices are mesh vertices, segments are edge
 ///      chains, no flipped (folded) or degenerate face, no self-intersection the template did not
 ///      have (PMP::does_self_intersect), finite coordinates.
