@@ -371,6 +371,25 @@ TEST_CASE("fit: number_of_iterations counts smoothing iterations, flip_preventio
     CHECK(r.smoothing.mean_curvature_iterations == 2);
     CHECK(r.smoothing.laplacian_iterations == 0);
   }
+  // flip_prevention_rounds reaches stage 1: on the example the thesis level needs 2 rounds; with 1
+  // it stops after 1 with faces still flipping, and fit's verification says so.
+  {
+    Inputs in = example();
+    const meshfit::Deformation_report d = meshfit::deform_template(
+        in.tm, in.network, in.pairs, meshfit::parameters::fine_level(meshfit::Fine_level::thesis));
+    CHECK(d.flip_rounds == 2);
+    CHECK(d.remaining_flips == 0);
+  }
+  {
+    Inputs in = example();
+    const meshfit::Fit_report r = meshfit::fit_template_to_curves(
+        in.tm, in.network, in.pairs,
+        meshfit::parameters::fine_level(meshfit::Fine_level::thesis).flip_prevention_rounds(1));
+    CHECK(r.deformation.flip_rounds == 1);
+    CHECK(r.deformation.remaining_flips > 0);
+    CHECK(r.verification.flips_remaining == r.deformation.remaining_flips);
+    CHECK(!r.verification.passed());
+  }
   // Negative counts are refused before any work, naming the parameter.
   for (int which = 0; which < 3; ++which) {
     Inputs in = example();

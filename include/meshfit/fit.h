@@ -182,13 +182,7 @@ Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& input_n
   const std::size_t rounds = internal::flip_prevention_rounds(np);
   const std::size_t memory_limit = choose_parameter(get_parameter(np, internal_np::memory_limit), std::size_t(0));
   // Smoothing iterations as smooth_fitted_mesh counts them (and checks them, before any work).
-  const std::size_t smoothing = internal::iterations_parameter(np, 100);
-  const std::size_t mc_iterations = internal::checked_count(
-      choose_parameter(get_parameter(np, internal_np::mean_curvature_iterations), smoothing / 5),
-      "mean_curvature_iterations");
-  const std::size_t lap_iterations = internal::checked_count(
-      choose_parameter(get_parameter(np, internal_np::laplacian_iterations), smoothing - smoothing / 5),
-      "laplacian_iterations");
+  const auto [mc_iterations, lap_iterations] = internal::smoothing_phases(np);
   const double step = choose_parameter(get_parameter(np, internal_np::step_size), 1.0);
   const bool check_self_intersections =
       choose_parameter(get_parameter(np, internal_np::check_self_intersections), true);

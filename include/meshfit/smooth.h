@@ -168,19 +168,27 @@ template <typename NamedParameters>
 std::size_t iterations_parameter(const NamedParameters& np, std::size_t fallback) {
   using CGAL::parameters::choose_parameter;
   using CGAL::parameters::get_parameter;
-  auto n = choose_parameter(get_parameter(np, CGAL::internal_np::number_of_iterations), fallback);
-  if constexpr (std::is_signed_v<decltype(n)>) {
-    if (n < 0) throw Invalid_input("smooth: number_of_iterations must not be negative, not " + std::to_string(n));
-  }
-  return static_cast<std::size_t>(n);
+  return non_negative_count(choose_parameter(get_parameter(np, CGAL::internal_np::number_of_iterations), fallback),
+                            "smooth", "number_of_iterations");
 }
 
-template <typename T>
-std::size_t checked_count(const T& n, const char* what) {
-  if constexpr (std::is_signed_v<T>) {
-    if (n < 0) throw Invalid_input(std::string("smooth: ") + what + " must not be negative, not " + std::to_string(n));
-  }
-  return static_cast<std::size_t>(n);
+/// The iterations of smooth_fitted_mesh's two phases: `number_of_iterations` (default 100) split
+/// one fifth modified mean curvature, the rest modified Laplacian, unless
+/// `mean_curvature_iterations` or `laplacian_iterations` give a phase's own count.
+/// \throws Invalid_input for a negative count.
+struct Smoothing_phases {
+  std::size_t mean_curvature = 0, laplacian = 0;
+};
+template <typename NamedParameters>
+Smoothing_phases smoothing_phases(const NamedParameters& np) {
+  using CGAL::parameters::choose_parameter;
+  using CGAL::parameters::get_parameter;
+  const std::size_t total = iterations_parameter(np, 100);
+  return {non_negative_count(choose_parameter(get_parameter(np, meshfit::internal_np::mean_curvature_iterations), total / 5),
+                             "smooth", "mean_curvature_iterations"),
+          non_negative_count(
+              choose_parameter(get_parameter(np, meshfit::internal_np::laplacian_iterations), total - total / 5),
+              "smooth", "laplacian_iterations")};
 }
 
 template <typename NamedParameters>
@@ -375,16 +383,8 @@ Smoothing_report modified_laplacian_flow(TriangleMesh& tm,
 /// CGAL's. No `meshfit::smooth_mesh` alias is kept: any function of that name would clash again.
 template <typename TriangleMesh, typename NamedParameters = CGAL::parameters::Default_named_parameters>
 Smoothing_report smooth_fitted_mesh(TriangleMesh& tm, const NamedParameters& np = CGAL::parameters::default_values()) {
-  using CGAL::parameters::choose_parameter;
-  using CGAL::parameters::get_parameter;
   const auto t0 = std::chrono::steady_clock::now();
-  const std::size_t total = internal::iterations_parameter(np, 100);
-  const std::size_t mc = internal::checked_count(
-      choose_parameter(get_parameter(np, meshfit::internal_np::mean_curvature_iterations), total / 5),
-      "mean_curvature_iterations");
-  const std::size_t lap = internal::checked_count(
-      choose_parameter(get_parameter(np, meshfit::internal_np::laplacian_iterations), total - total / 5),
-      "laplacian_iterations");
+  const auto [mc, lap] = internal::smoothing_phases(np);
   internal::Flow_settings first = internal::flow_settings(np, internal::Flow_kind::modified_mean_curvature, 0);
   internal::Flow_settings second = internal::flow_settings(np, internal::Flow_kind::modified_laplacian, 0);
   first.iterations = mc;

@@ -67,6 +67,17 @@ Point_3 point_of(const VPM& vpm, typename boost::graph_traits<TriangleMesh>::ver
   return Point_3(p.x(), p.y(), p.z());
 }
 
+/// A count-valued named parameter's value `n` as a std::size_t.
+/// \throws Invalid_input ("<stage>: <what> must not be negative, not <n>") when it is negative.
+template <typename T>
+std::size_t non_negative_count(const T& n, const char* stage, const char* what) {
+  if constexpr (std::is_signed_v<T>) {
+    if (n < 0)
+      throw Invalid_input(std::string(stage) + ": " + what + " must not be negative, not " + std::to_string(n));
+  }
+  return static_cast<std::size_t>(n);
+}
+
 /// The `flip_prevention_rounds` named parameter (default 10), read by deform's fine levels and by fit.
 /// \throws Invalid_input when it is negative.
 template <typename NamedParameters>
@@ -75,11 +86,7 @@ std::size_t flip_prevention_rounds(const NamedParameters& np) {
   using CGAL::parameters::get_parameter;
   const auto rounds = choose_parameter(get_parameter(np, internal_np::flip_prevention_rounds), 10);
   static_assert(std::is_integral_v<decltype(rounds)>, "meshfit: flip_prevention_rounds must be an integer");
-  if constexpr (std::is_signed_v<decltype(rounds)>) {
-    if (rounds < 0)
-      throw Invalid_input("deform: flip_prevention_rounds must not be negative, not " + std::to_string(rounds));
-  }
-  return static_cast<std::size_t>(rounds);
+  return non_negative_count(rounds, "deform", "flip_prevention_rounds");
 }
 
 template <typename TriangleMesh, typename NamedParameters>
