@@ -16,7 +16,9 @@ packages=(g++ cmake make libcgal-dev libeigen3-dev libboost-dev libgmp-dev libmp
           # pictures (scripts/render.sh and its test): f3d renders under a virtual X server
           f3d xvfb xauth libgl1-mesa-dri python3
           # meshfit view: three.js inlined into the page at build time; its tests in headless Chromium
-          libjs-three chromium)
+          libjs-three chromium
+          # the reference (the `doc` target and the doxygen_reference test)
+          doxygen)
 
 missing=()
 for p in "${packages[@]}"; do

@@ -15,11 +15,12 @@ if [ "${MESHFIT_SKIP_SANITIZE:-0}" != 1 ]; then
   # RelWithDebInfo's -O2 -g (fit_test.cpp: 158 s against 400 s, 2.0 against 3.0 GB).
   "$root/scripts/build.sh" "$root/build-asan" -DMESHFIT_SANITIZE=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DMESHFIT_BUILD_EXAMPLES=OFF -DMESHFIT_BUILD_BATTERY=OFF
-  # The tests of other programs reading meshfit's outputs (a browser, f3d, meshio) and of the
-  # installed package run in the release build only: under the sanitizers they would check the
-  # same meshfit code again (the command-line tests cover it) at several times the cost.
+  # The tests of other programs reading meshfit's outputs (a browser, f3d, meshio), of the
+  # installed package and of the reference run in the release build only: under the sanitizers
+  # they would check the same meshfit code again (the command-line tests cover it) at several
+  # times the cost, or nothing compiled at all (the reference).
   (cd "$root/build-asan" && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
      UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
      ctest --output-on-failure --parallel "$jobs" \
-       -E "install_and_consume|view_browser|render_example|meshio_roundtrip|f3d_output")
+       -E "install_and_consume|doxygen_reference|view_browser|render_example|meshio_roundtrip|f3d_output")
 fi

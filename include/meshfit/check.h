@@ -14,9 +14,9 @@ namespace meshfit {
 
 /// Topology of a triangle mesh.
 struct Mesh_summary {
-  std::size_t vertices = 0;
-  std::size_t faces = 0;
-  std::size_t edges = 0;
+  std::size_t vertices = 0;           ///< vertices, isolated ones included
+  std::size_t faces = 0;              ///< triangles
+  std::size_t edges = 0;              ///< edges of the triangles
   std::size_t boundaries = 0;         ///< boundary cycles
   std::size_t components = 0;         ///< connected components with at least one face
   std::size_t genus = 0;              ///< summed over components
@@ -32,17 +32,17 @@ double minimum_angle_degrees(const Mesh_data& mesh);
 
 /// What `meshfit check` reports.
 struct Check_summary {
-  Mesh_summary mesh;
-  Mesh_read_report mesh_report;
-  std::size_t network_vertices = 0;
-  std::size_t network_segments = 0;
-  std::size_t feature_points = 0;
-  std::size_t endpoints = 0;
-  std::size_t closed_polylines = 0;
-  std::size_t curves = 0;
-  std::size_t independent_cycles = 0;
-  std::size_t network_components = 0;
-  std::size_t correspondences = 0;
+  Mesh_summary mesh;                   ///< topology of the template
+  Mesh_read_report mesh_report;        ///< what reading the template found
+  std::size_t network_vertices = 0;    ///< Curve_network::number_of_vertices()
+  std::size_t network_segments = 0;    ///< Curve_network::number_of_segments()
+  std::size_t feature_points = 0;      ///< network vertices of more than two segments
+  std::size_t endpoints = 0;           ///< network vertices of one segment
+  std::size_t closed_polylines = 0;    ///< Curve_network::number_of_closed_polylines()
+  std::size_t curves = 0;              ///< Curve_network::curves()
+  std::size_t independent_cycles = 0;  ///< Curve_network::number_of_independent_cycles()
+  std::size_t network_components = 0;  ///< Curve_network::number_of_components()
+  std::size_t correspondences = 0;     ///< pairs read
   /// Things that do not stop a fit but that a user should know (degenerate faces, …).
   std::vector<std::string> problems;
 };

@@ -14,10 +14,11 @@ namespace meshfit {
 
 /// A template vertex paired with a network vertex.
 struct Correspondence {
-  std::size_t template_vertex = 0;
-  std::size_t network_vertex = 0;
+  std::size_t template_vertex = 0;  ///< index of the template vertex, in the order of the template file
+  std::size_t network_vertex = 0;   ///< index of the network vertex (Curve_network's numbering)
   Input_location where;  ///< where the pair was read from (empty when built in code)
 
+  /// Same template vertex and same network vertex (`where` is not compared).
   friend bool operator==(const Correspondence& a, const Correspondence& b) {
     return a.template_vertex == b.template_vertex && a.network_vertex == b.network_vertex;
   }
@@ -30,6 +31,7 @@ struct Correspondence {
 /// \throws Invalid_input naming the file and line of a malformed line, of a point that is not a
 ///         network vertex, of an index `@k` with no network vertex, or of a pair repeating an earlier pair's template or network vertex.
 std::vector<Correspondence> read_correspondences(const std::string& path, const Curve_network& network);
+/// Same as read_correspondences, from the content of a file; `name` is used in error messages.
 std::vector<Correspondence> parse_correspondences(const std::string& content, const std::string& name,
                                                   const Curve_network& network);
 
@@ -45,8 +47,9 @@ void validate_correspondences(const std::vector<Correspondence>& pairs,
 
 /// The closest-point correspondences of thesis §2.1.
 struct Closest_point_assignment {
-  /// For each network vertex, its template vertex, or `unassigned`.
+  /// The value of template_of for a network vertex without a template vertex.
   static constexpr std::size_t unassigned = static_cast<std::size_t>(-1);
+  /// For each network vertex, its template vertex, or `unassigned`.
   std::vector<std::size_t> template_of;
   /// Network vertices that lost their nearest template vertex to another one (sorted).
   std::vector<std::size_t> losers;
@@ -67,7 +70,7 @@ enum class Loser_rule {
 /// until every one has a vertex or none is left. Equidistant template vertices are resolved by
 /// the lower template index. When `candidates` is given (one flag per template point), only the
 /// flagged points are paired (the template's unused vertices are not).
-/// 	hrows Invalid_input when a fixed pair's indices are out of range.
+/// \throws Invalid_input when a fixed pair's indices are out of range.
 Closest_point_assignment closest_point_correspondences(const std::vector<Point_3>& template_points,
                                                        const Curve_network& network,
                                                        const std::vector<Correspondence>& fixed = {},

@@ -25,8 +25,8 @@ constexpr double default_merge_tolerance = 1e-9;
 /// are unique: a segment given twice (in either direction) is stored once.
 class Curve_network {
  public:
-  using Polyline = std::vector<Point_3>;
-  using Segment = std::array<std::size_t, 2>;
+  using Polyline = std::vector<Point_3>;        ///< an input polyline: its points in order
+  using Segment = std::array<std::size_t, 2>;  ///< a segment: its two network vertices
 
   /// A maximal chain of segments whose inner vertices have degree 2: it runs between feature
   /// points or endpoints, or is a closed loop.
@@ -43,17 +43,27 @@ class Curve_network {
                          double relative_tolerance = default_merge_tolerance,
                          const std::vector<Input_location>& where = {});
 
+  /// Network vertices, after merging.
   std::size_t number_of_vertices() const { return m_points.size(); }
+  /// Distinct segments.
   std::size_t number_of_segments() const { return m_segments.size(); }
+  /// The position of every network vertex, in order of first appearance.
   const std::vector<Point_3>& points() const { return m_points; }
+  /// The position of vertex `v`. \throws std::out_of_range when there is no vertex `v`.
   const Point_3& point(std::size_t v) const { return m_points.at(v); }
+  /// Every segment, in order of first appearance.
   const std::vector<Segment>& segments() const { return m_segments; }
   /// Indices of the segments incident to vertex `v`.
   const std::vector<std::size_t>& incident_segments(std::size_t v) const { return m_incident.at(v); }
+  /// The number of segments incident to vertex `v`.
   std::size_t degree(std::size_t v) const { return m_incident.at(v).size(); }
+  /// More than two segments meet at `v`.
   bool is_feature_point(std::size_t v) const { return degree(v) > 2; }
+  /// Exactly one segment ends at `v`.
   bool is_endpoint(std::size_t v) const { return degree(v) == 1; }
+  /// The feature points, in increasing order.
   std::vector<std::size_t> feature_points() const;
+  /// The endpoints, in increasing order.
   std::vector<std::size_t> endpoints() const;
 
   /// The input polylines as network vertex indices, in input order.
@@ -65,6 +75,7 @@ class Curve_network {
   /// Number of independent cycles of the network graph (segments − vertices + components).
   std::size_t number_of_independent_cycles() const;
 
+  /// Connected components of the network graph.
   std::size_t number_of_components() const { return m_number_of_components; }
   /// Empty when the network graph is planar (it can be drawn on a sphere or a disc without
   /// crossings); else the segments of a Kuratowski subgraph (a subdivision of K5 or K3,3) that
@@ -75,6 +86,7 @@ class Curve_network {
   /// Component of vertex `v`, numbered from 0 in order of their lowest vertex.
   std::size_t component(std::size_t v) const { return m_component.at(v); }
 
+  /// The bounding box of the network's points.
   const Bbox_3& bbox() const { return m_bbox; }
   /// Absolute merge tolerance (relative tolerance × bounding-box diagonal).
   double tolerance() const { return m_tolerance; }

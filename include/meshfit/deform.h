@@ -77,14 +77,15 @@ enum class Fine_level {
   /// flip (deform_fine).
   thesis
 };
+/// "surface" or "thesis" (the command line's spelling).
 inline const char* to_string(Fine_level level) { return level == Fine_level::surface ? "surface" : "thesis"; }
 
 /// What a deformation did.
 struct Deformation_report {
   // coarse level
-  std::size_t user_pairs = 0;
-  Rbf_fit_report coarse_fit;
-  double coarse_seconds = 0;
+  std::size_t user_pairs = 0;  ///< the user's pairs
+  Rbf_fit_report coarse_fit;   ///< the coarse RBF's fit
+  double coarse_seconds = 0;   ///< time of the coarse level
   /// Faces the coarse motion turns over relative to the affine image of the template (exact flip
   /// counter): local inversions of the RBF, whatever the placement of the template.
   std::size_t coarse_flipped_faces = 0;
@@ -94,7 +95,7 @@ struct Deformation_report {
   bool orientation_reversed = false;
   std::size_t degenerate_faces_skipped = 0;  ///< zero-area faces before the fine motion: not judged
   // fine level
-  bool fine_done = false;
+  bool fine_done = false;  ///< the fine level ran
   std::size_t fine_pairs = 0;              ///< pairs of the final fine RBF (user + closest point + refined)
   std::size_t flip_rounds = 0;             ///< rounds of detection (1 when nothing flipped)
   std::size_t flips_found = 0;             ///< flipped or degenerate faces found, over all rounds
@@ -104,7 +105,7 @@ struct Deformation_report {
   std::size_t vertices_inserted_for_flips = 0;    ///< by flip prevention
   std::vector<std::size_t> dropped_network_vertices;  ///< Curve_density::drop: not represented
   Rbf_fit_report fine_fit;  ///< Fine_level::thesis
-  Fine_level fine_level = Fine_level::surface;
+  Fine_level fine_level = Fine_level::surface;  ///< the fine level that ran (or would have)
   // Fine_level::surface
   double largest_projection_distance = 0;   ///< from a network vertex to the coarse surface
   /// Edges between two curves' vertices split so that every face has a corner free to move.
@@ -115,7 +116,7 @@ struct Deformation_report {
   /// Template vertices given a motion towards the curves before the embedding, and the part of
   /// that motion applied (0: none; deform_fine_on_surface, step 0).
   std::size_t approach_constraints = 0;
-  double approach_scale = 0;
+  double approach_scale = 0;  ///< the part of the approach motion applied (see approach_constraints)
   /// The steps after the approach left defects and ran again without it.
   bool approach_retried = false;
   /// Points added on long segments (deform_fine_on_surface, step 0), which become mesh vertices.
@@ -129,14 +130,15 @@ struct Deformation_report {
   std::size_t segments_by_shortest_path = 0;
   std::vector<std::size_t> segments_not_embedded;  ///< indices into network.segments()
   Partition_report embedding;               ///< the insertion on the coarse surface
-  Displacement_report displacement;
+  Displacement_report displacement;         ///< the thin-plate displacement solve
   std::size_t untangle_rounds = 0;          ///< rounds of local relaxation where faces flipped
   std::size_t untangled_vertices = 0;       ///< free vertices relaxed, over all rounds
   std::size_t remaining_folds = 0;          ///< faces beside an edge folded by the fine level, at the end
   std::size_t edges_flipped = 0;            ///< to repair bad faces whose corners are all held
-  double fine_seconds = 0;
+  double fine_seconds = 0;                  ///< time of the fine level
   // result
-  std::size_t vertices = 0, faces = 0;
+  std::size_t vertices = 0;  ///< of the result
+  std::size_t faces = 0;     ///< of the result
   /// For each network vertex, the index (in the order of vertices(tm)) of the mesh vertex placed
   /// on it, or Closest_point_assignment::unassigned when it was dropped.
   std::vector<std::size_t> mesh_vertex_of_network_vertex;
@@ -191,7 +193,39 @@ namespace meshfit {
 /// The orientation is the sign of the RBF's affine part; on an open template that faces one way
 /// (a disc, a patch) it is the pairs' layout along the template that decides it, not how their
 /// heights across it correlate (Rbf_interpolant::fit with `orientation_from_layout`).
-/// Named parameters: `vertex_point_map`, `rbf_kernel`, `progress`.
+/// \tparam TriangleMesh a model of `MutableFaceGraph` (tested: CGAL::Surface_mesh, CGAL::Polyhedron_3)
+/// \tparam NamedParameters a sequence of named parameters (CGAL's or meshfit's)
+/// \param tm the template, moved in place
+/// \param network the curve network
+/// \param pairs the user's pairs: template vertex i (the i-th of `vertices(tm)`) → network vertex
+/// \param np an optional sequence of named parameters among the ones listed below
+/// \return the coarse figures (coarse_fit, coarse_flipped_faces, orientation_reversed, …);
+///         `mesh_vertex_of_network_vertex` holds the user's pairs only
+///
+/// \cgalNamedParamsBegin
+///   \cgalParamNBegin{vertex_point_map}
+///     \cgalParamDescription{a property map associating points to the vertices of `tm`}
+///     \cgalParamType{a class model of `ReadWritePropertyMap` with
+///       `boost::graph_traits<TriangleMesh>::%vertex_descriptor` as key type and
+///       meshfit::Point_3 as value type}
+///     \cgalParamDefault{`boost::get(CGAL::vertex_point, tm)`}
+///     \cgalParamExtra{If this parameter is omitted, an internal property map for `CGAL::vertex_point_t` must be
+///       available in `TriangleMesh`.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{rbf_kernel}
+///     \cgalParamDescription{the basis function φ of the coarse interpolant (rbf.h)}
+///     \cgalParamType{meshfit::Rbf_kernel}
+///     \cgalParamDefault{`meshfit::Rbf_kernel::linear` (φ(r) = r)}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{progress}
+///     \cgalParamDescription{a callback called at each step with a meshfit::Progress_step (stage `"deform"`)}
+///     \cgalParamType{a callable taking `const meshfit::Progress_step&` and returning `bool` (`false` cancels) or
+///       `void` (never cancels)}
+///     \cgalParamDefault{none: no calls, no cancelling}
+///     \cgalParamExtra{When it returns `false`, the stage throws meshfit::Algorithm_failure.}
+///   \cgalParamNEnd
+/// \cgalNamedParamsEnd
+///
 /// \throws Invalid_input for pairs out of range or an RBF that they cannot define (see
 ///         Rbf_interpolant::fit); Numerical_error when the solve fails.
 template <typename TriangleMesh, typename NamedParameters = CGAL::parameters::Default_named_parameters>
@@ -269,8 +303,59 @@ Deformation_report deform_coarse(TriangleMesh& tm, const Curve_network& network,
 /// Curve_density::refine (default) network vertices that lost their nearest template vertex get a
 /// vertex the same way; with Curve_density::drop they are dropped (reported), and only flip
 /// prevention adds vertices. New vertices come after the existing ones. Vertices of no face play
-/// no part (no pair, no motion). Named parameters: `vertex_point_map`, `rbf_kernel`,
-/// `curve_density`, `flip_prevention_rounds`, `memory_limit`, `progress`.
+/// no part (no pair, no motion).
+/// \tparam TriangleMesh a model of `MutableFaceGraph` (tested: CGAL::Surface_mesh, CGAL::Polyhedron_3)
+/// \tparam NamedParameters a sequence of named parameters (CGAL's or meshfit's)
+/// \param tm the template, moved in place
+/// \param network the curve network
+/// \param pairs the user's pairs: template vertex i (the i-th of `vertices(tm)`) → network vertex
+/// \param np an optional sequence of named parameters among the ones listed below
+/// \return the fine figures (fine_fit, flip_rounds, faces_subdivided, remaining_flips, …)
+///
+/// \cgalNamedParamsBegin
+///   \cgalParamNBegin{vertex_point_map}
+///     \cgalParamDescription{a property map associating points to the vertices of `tm`}
+///     \cgalParamType{a class model of `ReadWritePropertyMap` with
+///       `boost::graph_traits<TriangleMesh>::%vertex_descriptor` as key type and
+///       meshfit::Point_3 as value type}
+///     \cgalParamDefault{`boost::get(CGAL::vertex_point, tm)`}
+///     \cgalParamExtra{If this parameter is omitted, an internal property map for `CGAL::vertex_point_t` must be
+///       available in `TriangleMesh`.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{rbf_kernel}
+///     \cgalParamDescription{the basis function φ of the fine interpolant (rbf.h)}
+///     \cgalParamType{meshfit::Rbf_kernel}
+///     \cgalParamDefault{`meshfit::Rbf_kernel::linear` (φ(r) = r)}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{curve_density}
+///     \cgalParamDescription{what becomes of a network vertex whose nearest template vertex is taken by another}
+///     \cgalParamType{meshfit::Curve_density}
+///     \cgalParamDefault{`meshfit::Curve_density::refine` (it gets a vertex of its own)}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{flip_prevention_rounds}
+///     \cgalParamDescription{the most rounds of flip prevention (detection, local subdivision, a new fit)}
+///     \cgalParamType{an integer type}
+///     \cgalParamDefault{`10`}
+///     \cgalParamExtra{A negative value throws meshfit::Invalid_input.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{memory_limit}
+///     \cgalParamDescription{the most bytes the dense RBF system of the fine level (Fine_level::thesis) may take;
+///       a larger system is refused with meshfit::Algorithm_failure before it is allocated}
+///     \cgalParamType{`std::size_t`}
+///     \cgalParamDefault{`0`, which means meshfit::default_memory_limit() (an eighth of the physical memory)}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{progress}
+///     \cgalParamDescription{a callback called at each step with a meshfit::Progress_step (stage `"deform"`)}
+///     \cgalParamType{a callable taking `const meshfit::Progress_step&` and returning `bool` (`false` cancels) or
+///       `void` (never cancels)}
+///     \cgalParamDefault{none: no calls, no cancelling}
+///     \cgalParamExtra{When it returns `false`, the stage throws meshfit::Algorithm_failure.}
+///   \cgalParamNEnd
+/// \cgalNamedParamsEnd
+///
+/// \throws Invalid_input for pairs out of range or that define no interpolant, or a negative
+///         `flip_prevention_rounds`.
+/// \throws Numerical_error when a solve fails.
 /// \throws Algorithm_failure before any work when a polyline lies entirely far from the template
 ///         (internal::check_polylines_near); when the dense RBF would exceed `memory_limit`; when
 ///         flip prevention would grow the mesh past 8 × (template + network vertices).
@@ -483,9 +568,43 @@ Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
 /// better result is kept (`approach_retried`; the first on a tie). The mesh is then rebuilt in
 /// place, its vertices and faces in their order: the values of the caller's own properties on it
 /// are not kept.
-/// Named parameters: `vertex_point_map`, `flip_prevention_rounds`, `progress`.
+/// \tparam TriangleMesh a model of `MutableFaceGraph` (tested: CGAL::Surface_mesh, CGAL::Polyhedron_3)
+/// \tparam NamedParameters a sequence of named parameters (CGAL's or meshfit's)
+/// \param tm the template, moved in place
+/// \param network the curve network
+/// \param pairs the user's pairs: template vertex i (the i-th of `vertices(tm)`) → network vertex
+/// \param np an optional sequence of named parameters among the ones listed below
+/// \return the fine figures (segments_embedded, embedding, displacement, untangle_rounds,
+///         remaining_flips, remaining_folds, …)
+///
+/// \cgalNamedParamsBegin
+///   \cgalParamNBegin{vertex_point_map}
+///     \cgalParamDescription{a property map associating points to the vertices of `tm`}
+///     \cgalParamType{a class model of `ReadWritePropertyMap` with
+///       `boost::graph_traits<TriangleMesh>::%vertex_descriptor` as key type and
+///       meshfit::Point_3 as value type}
+///     \cgalParamDefault{`boost::get(CGAL::vertex_point, tm)`}
+///     \cgalParamExtra{If this parameter is omitted, an internal property map for `CGAL::vertex_point_t` must be
+///       available in `TriangleMesh`.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{flip_prevention_rounds}
+///     \cgalParamDescription{the most rounds of untangling (step 4)}
+///     \cgalParamType{an integer type}
+///     \cgalParamDefault{`10`}
+///     \cgalParamExtra{A negative value throws meshfit::Invalid_input.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{progress}
+///     \cgalParamDescription{a callback called at each step with a meshfit::Progress_step (stage `"deform"`)}
+///     \cgalParamType{a callable taking `const meshfit::Progress_step&` and returning `bool` (`false` cancels) or
+///       `void` (never cancels)}
+///     \cgalParamDefault{none: no calls, no cancelling}
+///     \cgalParamExtra{When it returns `false`, the stage throws meshfit::Algorithm_failure. The embedding's insertion (step 2) reports its steps as this stage's.}
+///   \cgalParamNEnd
+/// \cgalNamedParamsEnd
+///
 /// \throws Invalid_input for pairs out of range, or two pairs that give one network vertex two
-///         template vertices (or the reverse).
+///         template vertices (or the reverse), or a negative `flip_prevention_rounds`.
+/// \throws Numerical_error when the displacement solve fails.
 /// \throws Algorithm_failure, naming the polylines (1-based, in file order), before any work
 ///         when: the network is not planar and the template has genus 0; a polyline lies entirely
 ///         far from the coarse-deformed template (farther than a tenth of its size); segments of
@@ -675,7 +794,70 @@ Deformation_report deform_template_unscaled(TriangleMesh& tm, const Curve_networ
 /// decides (the command line fails with exit status 3).
 /// The levels run on the inputs scaled by a power of two to a unit-sized box (exact; see
 /// coordinate_range.h), so the result does not depend on the unit of the coordinates.
-/// \throws Invalid_input when a template coordinate is outside the supported range.
+/// \tparam TriangleMesh a model of `MutableFaceGraph` (tested: CGAL::Surface_mesh, CGAL::Polyhedron_3)
+/// \tparam NamedParameters a sequence of named parameters (CGAL's or meshfit's)
+/// \param tm the template, moved in place
+/// \param network the curve network
+/// \param pairs the user's pairs: template vertex i (the i-th of `vertices(tm)`) → network vertex
+/// \param np an optional sequence of named parameters among the ones listed below
+/// \return the figures of both levels (those of the coarse level only when the fine level did
+///         not run)
+///
+/// \cgalNamedParamsBegin
+///   \cgalParamNBegin{vertex_point_map}
+///     \cgalParamDescription{a property map associating points to the vertices of `tm`}
+///     \cgalParamType{a class model of `ReadWritePropertyMap` with
+///       `boost::graph_traits<TriangleMesh>::%vertex_descriptor` as key type and
+///       meshfit::Point_3 as value type}
+///     \cgalParamDefault{`boost::get(CGAL::vertex_point, tm)`}
+///     \cgalParamExtra{If this parameter is omitted, an internal property map for `CGAL::vertex_point_t` must be
+///       available in `TriangleMesh`.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{coarse_only}
+///     \cgalParamDescription{stop after the coarse level}
+///     \cgalParamType{`bool`}
+///     \cgalParamDefault{`false`}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{fine_level}
+///     \cgalParamDescription{the method of the fine level}
+///     \cgalParamType{meshfit::Fine_level}
+///     \cgalParamDefault{`meshfit::Fine_level::surface` (deform_fine_on_surface; `Fine_level::thesis`: deform_fine)}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{rbf_kernel}
+///     \cgalParamDescription{the basis function φ of the interpolants (the coarse one, and the fine one of `Fine_level::thesis`) (rbf.h)}
+///     \cgalParamType{meshfit::Rbf_kernel}
+///     \cgalParamDefault{`meshfit::Rbf_kernel::linear` (φ(r) = r)}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{curve_density}
+///     \cgalParamDescription{what becomes of a network vertex whose nearest template vertex is taken by another}
+///     \cgalParamType{meshfit::Curve_density}
+///     \cgalParamDefault{`meshfit::Curve_density::refine` (it gets a vertex of its own)}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{flip_prevention_rounds}
+///     \cgalParamDescription{the most rounds of flip prevention (`Fine_level::thesis`) or of untangling (`Fine_level::surface`)}
+///     \cgalParamType{an integer type}
+///     \cgalParamDefault{`10`}
+///     \cgalParamExtra{A negative value throws meshfit::Invalid_input.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{memory_limit}
+///     \cgalParamDescription{the most bytes the dense RBF system of the fine level (Fine_level::thesis) may take;
+///       a larger system is refused with meshfit::Algorithm_failure before it is allocated}
+///     \cgalParamType{`std::size_t`}
+///     \cgalParamDefault{`0`, which means meshfit::default_memory_limit() (an eighth of the physical memory)}
+///     \cgalParamExtra{Read by the fine level `Fine_level::thesis` only.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{progress}
+///     \cgalParamDescription{a callback called at each step with a meshfit::Progress_step (stage `"deform"`)}
+///     \cgalParamType{a callable taking `const meshfit::Progress_step&` and returning `bool` (`false` cancels) or
+///       `void` (never cancels)}
+///     \cgalParamDefault{none: no calls, no cancelling}
+///     \cgalParamExtra{When it returns `false`, the stage throws meshfit::Algorithm_failure.}
+///   \cgalParamNEnd
+/// \cgalNamedParamsEnd
+///
+/// \throws Invalid_input when a template coordinate is outside the supported range, and as
+///         deform_coarse, deform_fine and deform_fine_on_surface.
+/// \throws Numerical_error, Algorithm_failure as the levels that run.
 template <typename TriangleMesh, typename NamedParameters = CGAL::parameters::Default_named_parameters>
 Deformation_report deform_template(TriangleMesh& tm, const Curve_network& network,
                                    const std::vector<Correspondence>& pairs,

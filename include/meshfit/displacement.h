@@ -22,14 +22,16 @@ namespace meshfit {
 /// A mesh's vertex adjacency in compressed rows: the neighbours of vertex i are
 /// `neighbours[offsets[i]] … neighbours[offsets[i + 1] - 1]`.
 struct Vertex_adjacency {
-  std::vector<std::size_t> offsets{0};
-  std::vector<std::size_t> neighbours;
+  std::vector<std::size_t> offsets{0};  ///< one more than the number of vertices, offsets[0] = 0
+  std::vector<std::size_t> neighbours;  ///< the neighbours of every vertex, row after row
+  /// The number of vertices.
   std::size_t size() const { return offsets.size() - 1; }
 };
 
 /// What a displacement solve did.
 struct Displacement_report {
-  std::size_t free_vertices = 0, constrained_vertices = 0;
+  std::size_t free_vertices = 0;         ///< vertices whose displacement was solved for
+  std::size_t constrained_vertices = 0;  ///< vertices whose displacement was given
   std::size_t nonzeros = 0;  ///< of the factored matrix
   /// Free vertices in a connected part of the mesh with no constrained vertex: they keep a zero
   /// displacement.

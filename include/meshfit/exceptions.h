@@ -13,17 +13,20 @@ namespace meshfit {
 /// `no_offset`); `what()` of the exception shows only the known parts, compiler-style:
 /// `file:line: problem`, `file: byte 1234: problem` or `file: problem`.
 struct Input_location {
+  /// The value of `byte_offset` when the offset is unknown.
   static constexpr std::size_t no_offset = static_cast<std::size_t>(-1);
   std::string file;                  ///< file name as given by the caller, may be empty
   std::size_t line = 0;              ///< 1-based line, 0 when unknown or not a text format
   std::size_t byte_offset = no_offset;  ///< 0-based byte offset in a binary file
 
+  /// Line `line` (1-based) of text file `file`.
   static Input_location at_line(std::string file, std::size_t line) {
     Input_location l;
     l.file = std::move(file);
     l.line = line;
     return l;
   }
+  /// Byte `offset` (0-based) of binary file `file`.
   static Input_location at_byte(std::string file, std::size_t offset) {
     Input_location l;
     l.file = std::move(file);
@@ -37,10 +40,14 @@ struct Input_location {
 /// Thrown for every kind of bad input, in every build type. Derives from std::invalid_argument.
 class Invalid_input : public std::invalid_argument {
  public:
+  /// `problem` found at `where`; what() is `where.to_string()` followed by `": "` and `problem`.
   Invalid_input(Input_location where, const std::string& problem);
+  /// `problem`, at no known place (the message names the element).
   explicit Invalid_input(const std::string& problem) : Invalid_input(Input_location{}, problem) {}
 
+  /// Where the problem is (any part may be unknown).
   const Input_location& where() const noexcept { return m_where; }
+  /// what() without the location.
   const std::string& problem() const noexcept { return m_problem; }
 
  private:
@@ -57,8 +64,10 @@ class Numerical_error : public std::runtime_error {
 /// Thrown when an algorithm cannot complete on valid input (a stage gives up); names the stage.
 class Algorithm_failure : public std::runtime_error {
  public:
+  /// what() is `stage + ": " + reason`.
   Algorithm_failure(std::string stage, const std::string& reason)
       : std::runtime_error(stage + ": " + reason), m_stage(std::move(stage)), m_reason(reason) {}
+  /// The stage that gave up: "deform", "partition", "smooth", "fit", ….
   const std::string& stage() const noexcept { return m_stage; }
   /// what() without the stage.
   const std::string& reason() const noexcept { return m_reason; }

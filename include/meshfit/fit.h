@@ -34,25 +34,28 @@ namespace meshfit {
 
 /// The final checks of fit_template_to_curves.
 struct Fit_verification {
-  std::size_t network_vertices = 0;
+  std::size_t network_vertices = 0;          ///< vertices of the network
   std::size_t network_vertices_missing = 0;  ///< not exactly at a mesh vertex's position
-  std::size_t segments = 0;
+  std::size_t segments = 0;                  ///< segments of the network
   std::size_t segments_not_chains = 0;       ///< not a chain of curve edges lying on the segment
   std::size_t flips_remaining = 0;           ///< faces stage 1 could not keep from flipping
   std::size_t degenerate_faces = 0;          ///< zero area (exact)
   /// Interior edges whose two faces turn more than 90 degrees apart (exact: one face is not
   /// positively oriented in the other's plane), in the result and in the template: a flipped face
   /// folds over its neighbours, so the fit must not add any.
-  std::size_t folded_edges = 0, template_folded_edges = 0;
-  bool self_intersects = false, template_self_intersects = false;
-  bool self_intersection_checked = false;
-  std::size_t non_finite_coordinates = 0;
+  std::size_t folded_edges = 0;
+  std::size_t template_folded_edges = 0;  ///< folded edges of the template (see folded_edges)
+  bool self_intersects = false;           ///< the result intersects itself (when checked)
+  bool template_self_intersects = false;  ///< so does the template (checked only when the result does)
+  bool self_intersection_checked = false;  ///< the named parameter `check_self_intersections` was true
+  std::size_t non_finite_coordinates = 0;  ///< vertices of the result with a coordinate not finite
   /// Regions of the partition, and how many the network bounds on the result's surface when that
   /// is determined by its topology (expected_regions_known): on a connected genus-0 surface,
   /// E − V + 1 + C for a network of V vertices, E segments and C components (Euler's formula),
   /// one less on a disc whose boundary is all curve edges (the outer face is not on the mesh).
-  std::size_t regions = 0, expected_regions = 0;
-  bool expected_regions_known = false;
+  std::size_t regions = 0;
+  std::size_t expected_regions = 0;     ///< see regions
+  bool expected_regions_known = false;  ///< expected_regions holds a value (see regions)
 
   /// What is wrong, one sentence each; empty when everything holds.
   std::vector<std::string> problems() const {
@@ -72,18 +75,25 @@ struct Fit_verification {
       p.push_back(n(regions) + " regions where the network bounds " + n(expected_regions));
     return p;
   }
+  /// No problem.
   bool passed() const { return problems().empty(); }
 };
 
 /// What fit_template_to_curves did.
 struct Fit_report {
-  Deformation_report deformation;
-  Partition_report partition;
-  Smoothing_report smoothing;
-  Fit_verification verification;
-  double deform_seconds = 0, partition_seconds = 0, smooth_seconds = 0, verify_seconds = 0, total_seconds = 0;
-  std::size_t template_vertices = 0, template_faces = 0;
-  std::size_t vertices = 0, faces = 0;
+  Deformation_report deformation;  ///< stage 1
+  Partition_report partition;      ///< stage 2
+  Smoothing_report smoothing;      ///< stage 3 (displacements in the input's units)
+  Fit_verification verification;   ///< the final checks
+  double deform_seconds = 0;       ///< time of stage 1
+  double partition_seconds = 0;    ///< time of stage 2
+  double smooth_seconds = 0;       ///< time of stage 3, chain spacing and angle flips included
+  double verify_seconds = 0;       ///< time of the verification
+  double total_seconds = 0;        ///< time of the call
+  std::size_t template_vertices = 0;  ///< vertices of the template
+  std::size_t template_faces = 0;     ///< faces of the template
+  std::size_t vertices = 0;           ///< vertices of the result
+  std::size_t faces = 0;              ///< faces of the result
   double minimum_angle_deg = 0;  ///< smallest angle of the result's triangles
   /// Edges flipped after smoothing to raise the smallest angle (internal::flip_for_angles).
   std::size_t angle_flips = 0;
@@ -151,19 +161,112 @@ std::optional<std::size_t> expected_regions(const TriangleMesh& tm, const Curve_
 /// an exception (including a cancel from the `progress` callback, Algorithm_failure) leaves it as
 /// it was. Vertex i of the result is template vertex i (moved); vertices added by stage 1 follow.
 /// A failed verification does not throw: the report says what is wrong and the caller decides.
-/// Named parameters:
-///   `vertex_point_map` (of `tm`);
-///   `edge_is_constrained_map`, `face_patch_map` (outputs: curve edges, regions of the result);
-///   stage 1: `fine_level` (Fine_level::surface), `rbf_kernel`, `curve_density`,
-///   `flip_prevention_rounds` (rounds of flip prevention or untangling, 10), `memory_limit`;
-///   stage 3: `number_of_iterations` (100, split as smooth_fitted_mesh splits it: one fifth
-///   modified mean curvature, the rest modified Laplacian), `mean_curvature_iterations` and
-///   `laplacian_iterations` (each phase's count, overriding that split), `step_size` (1);
-///   `check_self_intersections` (bool, default true: the most expensive check);
-///   `progress` (called by every stage with its own stage name, and by the verification as "fit").
-/// \throws Invalid_input for pairs out of range or that define no interpolant;
-///         Algorithm_failure when the pairs mirror the template, when some network vertex could
+/// \tparam TriangleMesh a model of `MutableFaceGraph` (tested: CGAL::Surface_mesh, CGAL::Polyhedron_3)
+/// \tparam NamedParameters a sequence of named parameters (CGAL's or meshfit's)
+/// \param tm the template, replaced by the result when every stage completed
+/// \param input_network the curve network
+/// \param pairs the user's pairs: template vertex i (the i-th of `vertices(tm)`) → network vertex
+/// \param np an optional sequence of named parameters among the ones listed below
+/// \return the reports of the stages and of the verification, the times and the result's figures
+///
+/// \cgalNamedParamsBegin
+///   \cgalParamNBegin{vertex_point_map}
+///     \cgalParamDescription{a property map associating points to the vertices of `tm`}
+///     \cgalParamType{a class model of `ReadWritePropertyMap` with
+///       `boost::graph_traits<TriangleMesh>::%vertex_descriptor` as key type and
+///       meshfit::Point_3 as value type}
+///     \cgalParamDefault{`boost::get(CGAL::vertex_point, tm)`}
+///     \cgalParamExtra{If this parameter is omitted, an internal property map for `CGAL::vertex_point_t` must be
+///       available in `TriangleMesh`.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{edge_is_constrained_map}
+///     \cgalParamDescription{output: set to `true` exactly on the curve edges of the result}
+///     \cgalParamType{a class model of `WritablePropertyMap` with
+///       `boost::graph_traits<TriangleMesh>::%edge_descriptor` as key type and `bool` as value type}
+///     \cgalParamDefault{none: the curve edges are not written}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{face_patch_map}
+///     \cgalParamDescription{output: the region of each face of the result, numbered from 0}
+///     \cgalParamType{a class model of `WritablePropertyMap` with
+///       `boost::graph_traits<TriangleMesh>::%face_descriptor` as key type and an integer type as
+///       value type}
+///     \cgalParamDefault{none: the regions are not written}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{fine_level}
+///     \cgalParamDescription{stage 1's fine level}
+///     \cgalParamType{meshfit::Fine_level}
+///     \cgalParamDefault{`meshfit::Fine_level::surface`}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{rbf_kernel}
+///     \cgalParamDescription{the basis function φ of stage 1's interpolants (rbf.h)}
+///     \cgalParamType{meshfit::Rbf_kernel}
+///     \cgalParamDefault{`meshfit::Rbf_kernel::linear` (φ(r) = r)}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{curve_density}
+///     \cgalParamDescription{what becomes of a network vertex whose nearest template vertex is taken by another}
+///     \cgalParamType{meshfit::Curve_density}
+///     \cgalParamDefault{`meshfit::Curve_density::refine` (it gets a vertex of its own)}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{flip_prevention_rounds}
+///     \cgalParamDescription{the most rounds of stage 1's flip prevention (`Fine_level::thesis`) or untangling (`Fine_level::surface`)}
+///     \cgalParamType{an integer type}
+///     \cgalParamDefault{`10`}
+///     \cgalParamExtra{A negative value throws meshfit::Invalid_input.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{memory_limit}
+///     \cgalParamDescription{the most bytes the dense RBF system of the fine level (Fine_level::thesis) may take;
+///       a larger system is refused with meshfit::Algorithm_failure before it is allocated}
+///     \cgalParamType{`std::size_t`}
+///     \cgalParamDefault{`0`, which means meshfit::default_memory_limit() (an eighth of the physical memory)}
+///     \cgalParamExtra{Read by the fine level `Fine_level::thesis` only.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{number_of_iterations}
+///     \cgalParamDescription{stage 3's iterations, split as smooth_fitted_mesh splits them: one fifth (rounded down)
+///       modified mean curvature, the rest modified Laplacian}
+///     \cgalParamType{an integer type}
+///     \cgalParamDefault{`100`}
+///     \cgalParamExtra{A negative value throws meshfit::Invalid_input; `0` skips the smoothing.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{mean_curvature_iterations}
+///     \cgalParamDescription{the iterations of stage 3's first phase, overriding the split}
+///     \cgalParamType{an integer type}
+///     \cgalParamDefault{`number_of_iterations / 5` (integer division): `20`}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{laplacian_iterations}
+///     \cgalParamDescription{the iterations of stage 3's second phase, overriding the split}
+///     \cgalParamType{an integer type}
+///     \cgalParamDefault{`number_of_iterations - number_of_iterations / 5`: `80`}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{step_size}
+///     \cgalParamDescription{stage 3's step λ (smooth_fitted_mesh)}
+///     \cgalParamType{`double` in (0, 1]}
+///     \cgalParamDefault{`1`}
+///     \cgalParamExtra{A value outside (0, 1] throws meshfit::Invalid_input when stage 3 starts (`tm` is
+///       unchanged).}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{check_self_intersections}
+///     \cgalParamDescription{whether the verification looks for self-intersections of the result (the most expensive
+///       check)}
+///     \cgalParamType{`bool`}
+///     \cgalParamDefault{`true`}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{progress}
+///     \cgalParamDescription{a callback called at each step with a meshfit::Progress_step (stage `"fit"`)}
+///     \cgalParamType{a callable taking `const meshfit::Progress_step&` and returning `bool` (`false` cancels) or
+///       `void` (never cancels)}
+///     \cgalParamDefault{none: no calls, no cancelling}
+///     \cgalParamExtra{Every stage calls it with its own stage name (`"deform"`, `"partition"`, `"smooth"`), the
+///       verification with `"fit"`. When it returns `false`, fit_template_to_curves throws
+///       meshfit::Algorithm_failure and `tm` is unchanged.}
+///   \cgalParamNEnd
+/// \cgalNamedParamsEnd
+///
+/// \throws Invalid_input for pairs out of range or that define no interpolant, a template
+///         coordinate outside the supported range, or a negative count among the named
+///         parameters (before any work).
+/// \throws Algorithm_failure when the pairs mirror the template, when some network vertex could
 ///         not be given a mesh vertex (Curve_density::drop), or when cancelled.
+/// \throws Numerical_error when a solve of stage 1 fails.
 template <typename TriangleMesh, typename NamedParameters = CGAL::parameters::Default_named_parameters>
 Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& input_network,
                                   const std::vector<Correspondence>& pairs,

@@ -17,8 +17,10 @@
 
 namespace meshfit {
 
+/// The three corners of a triangle, in order.
 using Triangle_points = std::array<Point_3, 3>;
 
+/// What a motion did to a triangle's orientation.
 enum class Flip_state {
   kept,        ///< same orientation in Π before and after
   flipped,     ///< reversed orientation
@@ -30,6 +32,7 @@ enum class Flip_state {
 struct Flip_count {
   int crossings = 0;         ///< motions t_i that crossed the opposite edge line d_i
   bool degenerate = false;   ///< a motion ended exactly on the line, or the face had no plane
+  /// degenerate, or flipped when the number of crossings is odd, else kept.
   Flip_state state() const {
     return degenerate ? Flip_state::degenerate : (crossings % 2 ? Flip_state::flipped : Flip_state::kept);
   }
@@ -46,7 +49,9 @@ CGAL::Sign orientation_in_plane_unfiltered(const Triangle_points& plane, const P
 /// interval then exact arithmetic (see orientation_in_plane).
 class Plane_orientation {
  public:
+  /// An unusable default (no plane); assign one made from a triangle.
   Plane_orientation() = default;
+  /// Orientation in the plane of `plane`, turning as `plane` does.
   explicit Plane_orientation(const Triangle_points& plane) : m_plane(plane) {
     const Vector_3 e1 = plane[1] - plane[0], e2 = plane[2] - plane[0];
     m_n[0] = e1.y() * e2.z() - e1.z() * e2.y();
@@ -56,6 +61,7 @@ class Plane_orientation {
     m_m[1] = std::abs(e1.z() * e2.x()) + std::abs(e1.x() * e2.z());
     m_m[2] = std::abs(e1.x() * e2.y()) + std::abs(e1.y() * e2.x());
   }
+  /// The triangle given to the constructor.
   const Triangle_points& plane() const { return m_plane; }
   /// orientation_in_plane(plane(), a, b, c). The filter: the value n · ((b − a) × (c − a)) in
   /// double, every term a product of four differences of inputs passed through at most 7

@@ -42,6 +42,7 @@ enum class Mesh_format { off, obj, ply, stl, vtp, vtk, ase };
 /// `.ase`, any case).
 /// \throws Invalid_input naming the file for any other extension.
 Mesh_format mesh_format_of(const std::string& path);
+/// The format's name in capitals: "OFF", "OBJ", "PLY", "STL", "VTP", "VTK", "ASE".
 const char* to_string(Mesh_format format);
 /// The file extension of `format`, without the dot, in lower case (`"ply"`).
 const char* extension_of(Mesh_format format);
@@ -49,16 +50,16 @@ const char* extension_of(Mesh_format format);
 /// A triangle mesh as files hold it: vertices in file order, triangles as vertex indices, and
 /// optionally a region (patch) per triangle and a set of curve edges.
 struct Mesh_data {
-  std::vector<Point_3> points;
-  std::vector<std::array<std::size_t, 3>> triangles;
+  std::vector<Point_3> points;                         ///< vertex i is points[i]
+  std::vector<std::array<std::size_t, 3>> triangles;   ///< corners as indices into points
   std::vector<int> face_patch;  ///< empty, or one region index per triangle
-  std::vector<std::array<std::size_t, 2>> curve_edges;
+  std::vector<std::array<std::size_t, 2>> curve_edges;  ///< edges (pairs of vertex indices) on the curves
 };
 
 /// What reading a mesh found besides the mesh itself.
 struct Mesh_read_report {
-  std::string file;
-  Mesh_format format = Mesh_format::off;
+  std::string file;                       ///< the path read, or the name given for a stream
+  Mesh_format format = Mesh_format::off;  ///< the format read
   std::size_t polygons_read = 0;          ///< faces as declared in the file
   std::size_t polygons_triangulated = 0;  ///< of those, faces with more than three sides
   std::vector<std::size_t> degenerate_faces;   ///< triangles whose corners are collinear (exact test)
@@ -93,10 +94,15 @@ Mesh_data read_mesh_data(std::istream& in, Mesh_format format, const std::string
 Mesh_data parse_mesh_data(const std::string& content, Mesh_format format, const std::string& name,
                           Mesh_read_report* report = nullptr);
 
-enum class Ply_encoding { ascii, binary_little_endian };
+/// How `.ply` files are written.
+enum class Ply_encoding {
+  ascii,                ///< text (default)
+  binary_little_endian  ///< binary, little-endian
+};
 
+/// Options of the writers.
 struct Write_options {
-  Ply_encoding ply_encoding = Ply_encoding::ascii;
+  Ply_encoding ply_encoding = Ply_encoding::ascii;  ///< for `.ply` outputs
   /// Paths the output must not be (the inputs): writing refuses with Invalid_input.
   std::vector<std::string> protected_paths;
   /// Curve edges inside `.obj` (`l` lines) and `.ply` (an `edge` element with `vertex1`,
@@ -117,8 +123,13 @@ struct Write_options {
 ///         cannot be written, or when the mesh refers to vertices that do not exist.
 void write_mesh_data(const std::string& path, const Mesh_data& mesh,
                      const Write_options& options = Write_options());
+/// Writes `mesh` to a stream in `format` (as the path form does, without the atomic rename).
+/// \throws Invalid_input for an input-only format (`ase`) or when the mesh refers to vertices
+///         that do not exist.
 void write_mesh_data(std::ostream& out, Mesh_format format, const Mesh_data& mesh,
                      Ply_encoding ply_encoding = Ply_encoding::ascii);
+/// Writes `mesh` to a stream in `format` with `options` (`protected_paths` do not apply).
+/// \throws Invalid_input as the form above.
 void write_mesh_data(std::ostream& out, Mesh_format format, const Mesh_data& mesh,
                      const Write_options& options);
 
@@ -160,12 +171,12 @@ struct Region_mesh {
 ///         vertex.
 std::vector<Region_mesh> split_by_region(const Mesh_data& mesh);
 
-/// The file name of region `region` in `format`: `region_<k>.<ext>` (`region_-1.<ext>` for the
-/// faces of no region, id -1).
+/// The file name of a region's mesh. For region `region` in `format`: `region_<k>.<ext>`
+/// (`region_-1.<ext>` for the faces of no region, id -1).
 std::string region_file_name(int region, Mesh_format format);
 
-/// Checks, before any work, that the region meshes of write_region_meshes can go to `dir`: `dir`
-/// is an existing writable directory, or does not exist and its parent is an existing writable
+/// Checks, before any work, that the region meshes of write_region_meshes can go to `dir`. That is,
+/// `dir` is an existing writable directory, or does not exist and its parent is an existing writable
 /// directory (it is created when writing), and none of `protected_paths` (the inputs and the other
 /// outputs) is a file write_region_meshes could write in it (`region_<k>.<ext>`, `regions.json`).
 /// \throws Invalid_input naming `dir` otherwise (for example when it exists and is not a
@@ -183,10 +194,44 @@ std::vector<Region_mesh> write_region_meshes(const std::string& dir, const Mesh_
 // ---- TriangleMesh front end ---------------------------------------------------------------------
 
 /// Replaces the content of `tm` by `mesh` and returns the vertex created for each point.
-/// Named parameters: `vertex_point_map`; `face_patch_map` (writable, receives `face_patch` when
-/// present); `edge_is_constrained_map` (writable, receives true on curve edges, false elsewhere).
+/// \tparam TriangleMesh a model of `MutableFaceGraph`
+/// \tparam NamedParameters a sequence of named parameters (CGAL's or meshfit's)
+/// \param mesh the mesh to build: vertex i of `mesh` becomes the i-th vertex added to `tm`
+/// \param tm the mesh to fill (cleared first)
+/// \param np an optional sequence of named parameters among the ones listed below
+/// \return the vertex of `tm` created for each of `mesh.points`, in order
+///
+/// \cgalNamedParamsBegin
+///   \cgalParamNBegin{vertex_point_map}
+///     \cgalParamDescription{a property map associating points to the vertices of `tm`}
+///     \cgalParamType{a class model of `WritablePropertyMap` with
+///                    `boost::graph_traits<TriangleMesh>::%vertex_descriptor` as key type and
+///                    meshfit::Point_3 as value type}
+///     \cgalParamDefault{`boost::get(CGAL::vertex_point, tm)`}
+///     \cgalParamExtra{If this parameter is omitted, an internal property map for
+///                     `CGAL::vertex_point_t` must be available in `TriangleMesh`.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{face_patch_map}
+///     \cgalParamDescription{output: receives the region of each face, `mesh.face_patch[f]` for
+///                           face f (0 for every face when `mesh.face_patch` is empty)}
+///     \cgalParamType{a class model of `WritablePropertyMap` with
+///                    `boost::graph_traits<TriangleMesh>::%face_descriptor` as key type and an
+///                    integer type as value type}
+///     \cgalParamDefault{none: the regions are not written}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{edge_is_constrained_map}
+///     \cgalParamDescription{output: receives `true` on the curve edges of `mesh`, `false` on every
+///                           other edge}
+///     \cgalParamType{a class model of `WritablePropertyMap` with
+///                    `boost::graph_traits<TriangleMesh>::%edge_descriptor` as key type and `bool`
+///                    as value type}
+///     \cgalParamDefault{none: the curve edges are not written}
+///   \cgalParamNEnd
+/// \cgalNamedParamsEnd
+///
 /// \throws Invalid_input when `mesh` is not a valid oriented 2-manifold (use read_mesh_data, which
-///         checks this with line numbers, to read files).
+///         checks this with line numbers, to read files), when `face_patch` has the wrong size, or
+///         when a curve edge is not an edge of the mesh.
 template <typename TriangleMesh,
           typename NamedParameters = CGAL::parameters::Default_named_parameters>
 std::vector<typename boost::graph_traits<TriangleMesh>::vertex_descriptor>
@@ -244,8 +289,44 @@ build_triangle_mesh(const Mesh_data& mesh, TriangleMesh& tm,
   return vertex_of;
 }
 
-/// Reads a mesh file into `tm` (see read_mesh_data and build_triangle_mesh for what is checked and
-/// which named parameters receive regions and curve edges).
+/// Reads a mesh file into `tm` (see read_mesh_data and build_triangle_mesh for what is checked).
+/// \tparam TriangleMesh a model of `MutableFaceGraph`
+/// \tparam NamedParameters a sequence of named parameters (CGAL's or meshfit's)
+/// \param path the file, in a format chosen by its extension (mesh_format_of)
+/// \param tm the mesh to fill (cleared first): vertex i of the file is its i-th vertex
+/// \param np an optional sequence of named parameters among the ones listed below
+/// \return what reading found besides the mesh (Mesh_read_report)
+///
+/// \cgalNamedParamsBegin
+///   \cgalParamNBegin{vertex_point_map}
+///     \cgalParamDescription{a property map associating points to the vertices of `tm`}
+///     \cgalParamType{a class model of `WritablePropertyMap` with
+///                    `boost::graph_traits<TriangleMesh>::%vertex_descriptor` as key type and
+///                    meshfit::Point_3 as value type}
+///     \cgalParamDefault{`boost::get(CGAL::vertex_point, tm)`}
+///     \cgalParamExtra{If this parameter is omitted, an internal property map for
+///                     `CGAL::vertex_point_t` must be available in `TriangleMesh`.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{face_patch_map}
+///     \cgalParamDescription{output: receives the region of each face as the file gives it (0 for
+///                           every face when it gives none)}
+///     \cgalParamType{a class model of `WritablePropertyMap` with
+///                    `boost::graph_traits<TriangleMesh>::%face_descriptor` as key type and an
+///                    integer type as value type}
+///     \cgalParamDefault{none: the regions are not written}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{edge_is_constrained_map}
+///     \cgalParamDescription{output: receives `true` on the file's curve edges, `false` on every
+///                           other edge}
+///     \cgalParamType{a class model of `WritablePropertyMap` with
+///                    `boost::graph_traits<TriangleMesh>::%edge_descriptor` as key type and `bool`
+///                    as value type}
+///     \cgalParamDefault{none: the curve edges are not written}
+///   \cgalParamNEnd
+/// \cgalNamedParamsEnd
+///
+/// \throws Invalid_input naming the file and line or byte offset for any malformed content, and
+///         as build_triangle_mesh.
 template <typename TriangleMesh,
           typename NamedParameters = CGAL::parameters::Default_named_parameters>
 Mesh_read_report read_triangle_mesh(const std::string& path, TriangleMesh& tm,
@@ -257,9 +338,38 @@ Mesh_read_report read_triangle_mesh(const std::string& path, TriangleMesh& tm,
 }
 
 /// Flattens `tm` into Mesh_data. Vertices are numbered in the order of `vertices(tm)` (for
-/// CGAL::Surface_mesh without removed elements: their index). Named parameters:
-/// `vertex_point_map`; `face_patch_map` (read into `face_patch`); `edge_is_constrained_map` (edges
-/// where it is true become curve edges).
+/// CGAL::Surface_mesh without removed elements: their index).
+/// \tparam TriangleMesh a model of `FaceListGraph` whose faces are triangles
+/// \tparam NamedParameters a sequence of named parameters (CGAL's or meshfit's)
+/// \param tm the mesh
+/// \param np an optional sequence of named parameters among the ones listed below
+/// \return the points, triangles and, when the maps are given, regions and curve edges of `tm`
+///
+/// \cgalNamedParamsBegin
+///   \cgalParamNBegin{vertex_point_map}
+///     \cgalParamDescription{a property map associating points to the vertices of `tm`}
+///     \cgalParamType{a class model of `ReadablePropertyMap` with
+///                    `boost::graph_traits<TriangleMesh>::%vertex_descriptor` as key type and
+///                    a point type with `x()`, `y()` and `z()` as value type}
+///     \cgalParamDefault{`boost::get(CGAL::vertex_point, tm)`}
+///     \cgalParamExtra{If this parameter is omitted, an internal property map for
+///                     `CGAL::vertex_point_t` must be available in `TriangleMesh`.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{face_patch_map}
+///     \cgalParamDescription{input: the region of each face, copied into `face_patch` (as `int`)}
+///     \cgalParamType{a class model of `ReadablePropertyMap` with
+///                    `boost::graph_traits<TriangleMesh>::%face_descriptor` as key type and an
+///                    integer type as value type}
+///     \cgalParamDefault{none: `face_patch` is left empty}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{edge_is_constrained_map}
+///     \cgalParamDescription{input: the edges where it is `true` become `curve_edges`}
+///     \cgalParamType{a class model of `ReadablePropertyMap` with
+///                    `boost::graph_traits<TriangleMesh>::%edge_descriptor` as key type and `bool`
+///                    as value type}
+///     \cgalParamDefault{none: `curve_edges` is left empty}
+///   \cgalParamNEnd
+/// \cgalNamedParamsEnd
 template <typename TriangleMesh,
           typename NamedParameters = CGAL::parameters::Default_named_parameters>
 Mesh_data to_mesh_data(const TriangleMesh& tm,
@@ -295,7 +405,45 @@ Mesh_data to_mesh_data(const TriangleMesh& tm,
   return out;
 }
 
-/// Writes `tm` (see to_mesh_data for the named parameters and write_mesh_data for the formats).
+/// Writes `tm`: write_mesh_data(path, to_mesh_data(tm, np), options) (see write_mesh_data for
+/// the formats).
+/// \tparam TriangleMesh a model of `FaceListGraph` whose faces are triangles
+/// \tparam NamedParameters a sequence of named parameters (CGAL's or meshfit's)
+/// \param path the output, in the format of its extension
+/// \param tm the mesh
+/// \param np an optional sequence of named parameters among the ones listed below
+/// \param options the writers' options (PLY encoding, protected paths, curve edges inside the file)
+///
+/// \cgalNamedParamsBegin
+///   \cgalParamNBegin{vertex_point_map}
+///     \cgalParamDescription{a property map associating points to the vertices of `tm`}
+///     \cgalParamType{a class model of `ReadablePropertyMap` with
+///                    `boost::graph_traits<TriangleMesh>::%vertex_descriptor` as key type and
+///                    a point type with `x()`, `y()` and `z()` as value type}
+///     \cgalParamDefault{`boost::get(CGAL::vertex_point, tm)`}
+///     \cgalParamExtra{If this parameter is omitted, an internal property map for
+///                     `CGAL::vertex_point_t` must be available in `TriangleMesh`.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{face_patch_map}
+///     \cgalParamDescription{input: the region of each face, written as the format allows (OBJ
+///                           groups, PLY `patch_id`, VTK cell data `region`)}
+///     \cgalParamType{a class model of `ReadablePropertyMap` with
+///                    `boost::graph_traits<TriangleMesh>::%face_descriptor` as key type and an
+///                    integer type as value type}
+///     \cgalParamDefault{none: no regions are written}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{edge_is_constrained_map}
+///     \cgalParamDescription{input: the curve edges, where it is `true` (written to `.vtp` and `.vtk`
+///                           files, and to `.obj` and `.ply` files with
+///                           `Write_options::curves_in_mesh`)}
+///     \cgalParamType{a class model of `ReadablePropertyMap` with
+///                    `boost::graph_traits<TriangleMesh>::%edge_descriptor` as key type and `bool`
+///                    as value type}
+///     \cgalParamDefault{none: no curve edges}
+///   \cgalParamNEnd
+/// \cgalNamedParamsEnd
+///
+/// \throws Invalid_input as write_mesh_data.
 template <typename TriangleMesh,
           typename NamedParameters = CGAL::parameters::Default_named_parameters>
 void write_triangle_mesh(const std::string& path, const TriangleMesh& tm,

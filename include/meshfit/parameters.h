@@ -1,43 +1,46 @@
-// meshfit: named parameters of meshfit's own, chaining with each other and with CGAL's.
-//
-// A pack is started by any meshfit parameter function and read left to right:
-//   meshfit::parameters::rbf_kernel(meshfit::Rbf_kernel::cubic).progress(cb).flip_prevention_rounds(5)
-// Every meshfit tag and every CGAL 5.5 tag (number_of_iterations, vertex_point_map, geom_traits,
-// vertex_is_constrained_map, edge_is_constrained_map, face_patch_map, vertex_index_map, …) is a
-// member function of the pack (meshfit::Named_parameters), which derives from
-// CGAL::Named_function_parameters: CGAL::parameters::get_parameter(np,
-// meshfit::internal_np::rbf_kernel) reads it back and CGAL's own functions accept it.
-// `meshfit::parameters::default_values()` starts an empty pack (to begin a chain with a CGAL tag).
-// Starting from a CGAL pack, the two-argument form adds a meshfit tag (and the result chains on):
-//   meshfit::parameters::merge_tolerance(1e-8, CGAL::parameters::number_of_iterations(5))
-//
-// The tags, their types and defaults:
-//   | tag               | type                                    | default                        |
-//   |-------------------|-----------------------------------------|--------------------------------|
-//   | merge_tolerance   | double, relative to the bbox diagonal   | 1e-9                           |
-//   | progress          | callable (const Progress_step&), returns| none (never cancels)           |
-//   |                   | bool (false cancels) or void            |                                |
-//   | input_file_name   | std::string, used in error messages     | the path read, or "<stream>"   |
-//   | rbf_kernel        | meshfit::Rbf_kernel                     | Rbf_kernel::linear (φ(r) = r)  |
-//   | curve_density     | meshfit::Curve_density                  | Curve_density::refine          |
-//   | coarse_only       | bool: deform_template stops after coarse| false                          |
-//   | step_size         | double λ in (0, 1] (smooth.h)           | 1                              |
-//   | laplacian_weights | meshfit::Laplacian_weights              | Laplacian_weights::uniform     |
-//   | laplacian_variant | meshfit::Laplacian_variant (eq. 4.5/4.6)| Laplacian_variant::none        |
-//   | laplacian_alpha   | double α in [0, 1] (eq. 4.5/4.6)        | 0.5                            |
-//   | reference_points  | std::vector<Point_3>, one per vertex    | the positions at the call      |
-//   | mean_curvature_iterations | smooth_fitted_mesh's 1st phase  | number_of_iterations / 5 (20)  |
-//   | laplacian_iterations      | smooth_fitted_mesh's 2nd phase  | the rest (80)                  |
-//   | check_self_intersections  | bool: fit's final verification | true                           |
-//   | fine_level        | meshfit::Fine_level (deform.h)          | Fine_level::surface            |
-//   | memory_limit      | std::size_t, bytes (memory_limit.h)     | default_memory_limit(): RAM / 8|
-//   | flip_prevention_rounds | int ≥ 0: deform's and fit's most   | 10                             |
-//   |                   | rounds of flip prevention (thesis level)|                                |
-//   |                   | or untangling (surface level)           |                                |
-// CGAL parameters meshfit reads: vertex_point_map; number_of_iterations (always smoothing
-// iterations: smooth's flows, and fit's smoothing, split as smooth_fitted_mesh splits it; deform
-// does not read it); face_patch_map and edge_is_constrained_map (io; smooth: curve edges);
-// vertex_is_constrained_map (smooth).
+/// \file
+/// meshfit: named parameters of meshfit's own, chaining with each other and with CGAL's.
+///
+/// A pack is started by any meshfit parameter function and read left to right:
+/// `meshfit::parameters::rbf_kernel(meshfit::Rbf_kernel::cubic).progress(cb).flip_prevention_rounds(5)`.
+/// Every meshfit tag and every CGAL 5.5 tag (number_of_iterations, vertex_point_map, geom_traits,
+/// vertex_is_constrained_map, edge_is_constrained_map, face_patch_map, vertex_index_map, …) is a
+/// member function of the pack (meshfit::Named_parameters), which derives from
+/// CGAL::Named_function_parameters: `CGAL::parameters::get_parameter(np,
+/// meshfit::internal_np::rbf_kernel)` reads it back and CGAL's own functions accept it.
+/// `meshfit::parameters::default_values()` starts an empty pack (to begin a chain with a CGAL tag).
+/// Starting from a CGAL pack, the two-argument form adds a meshfit tag (and the result chains on):
+/// `meshfit::parameters::merge_tolerance(1e-8, CGAL::parameters::number_of_iterations(5))`.
+///
+/// The tags, their types and defaults (each function's "Optional named parameters" say which it
+/// reads):
+///
+/// | tag | type | default | read by |
+/// |-----|------|---------|---------|
+/// | `merge_tolerance` | `double`, relative to the bbox diagonal | 1e-9 | no function yet (read_curve_network and check_inputs take it as an argument, default_merge_tolerance) |
+/// | `progress` | callable (`const Progress_step&`), returns `bool` (`false` cancels) or `void` | none (never cancels) | every stage |
+/// | `input_file_name` | `std::string`, used in error messages | the path read, or `"<stream>"` | no function yet (the stream readers take the name as an argument) |
+/// | `rbf_kernel` | meshfit::Rbf_kernel | `Rbf_kernel::linear` (φ(r) = r) | deform_coarse, deform_fine, deform_template, fit_template_to_curves |
+/// | `curve_density` | meshfit::Curve_density | `Curve_density::refine` | deform_fine, deform_template, fit_template_to_curves |
+/// | `coarse_only` | `bool`: deform_template stops after the coarse level | `false` | deform_template |
+/// | `step_size` | `double` λ in (0, 1] (smooth.h) | 1 | the flows of smooth.h, fit_template_to_curves |
+/// | `laplacian_weights` | meshfit::Laplacian_weights | `Laplacian_weights::uniform` | laplacian_flow, modified_laplacian_flow, smooth_fitted_mesh |
+/// | `laplacian_variant` | meshfit::Laplacian_variant (eq. 4.5/4.6) | `Laplacian_variant::none` | laplacian_flow |
+/// | `laplacian_alpha` | `double` α in [0, 1] (eq. 4.5/4.6) | 0.5 | laplacian_flow (every flow checks the range) |
+/// | `reference_points` | `std::vector<Point_3>`, one per vertex | the positions at the call | modified_laplacian_flow |
+/// | `mean_curvature_iterations` | integer: smooth_fitted_mesh's 1st phase | `number_of_iterations / 5` (20) | smooth_fitted_mesh, fit_template_to_curves |
+/// | `laplacian_iterations` | integer: smooth_fitted_mesh's 2nd phase | the rest (80) | smooth_fitted_mesh, fit_template_to_curves |
+/// | `check_self_intersections` | `bool`: fit's final verification | `true` | fit_template_to_curves |
+/// | `fine_level` | meshfit::Fine_level (deform.h) | `Fine_level::surface` | deform_template, fit_template_to_curves |
+/// | `memory_limit` | `std::size_t`, bytes (memory_limit.h) | default_memory_limit(): RAM / 8 (also when 0) | deform_fine (so deform_template and fit_template_to_curves with `Fine_level::thesis`) |
+/// | `flip_prevention_rounds` | integer ≥ 0: the most rounds of flip prevention (thesis level) or untangling (surface level) | 10 | deform_fine, deform_fine_on_surface, deform_template, fit_template_to_curves |
+///
+/// CGAL parameters meshfit reads: `vertex_point_map` (every function over a mesh);
+/// `number_of_iterations` (always smoothing iterations: smooth's flows, and fit's smoothing, split
+/// as smooth_fitted_mesh splits it; deform does not read it); `face_patch_map` and
+/// `edge_is_constrained_map` (outputs of partition_mesh and fit_template_to_curves; io; smooth:
+/// curve edges as input; project_segment: edges not to cross); `vertex_is_constrained_map` (smooth,
+/// partition_mesh, project_segment).
 #ifndef MESHFIT_PARAMETERS_H
 #define MESHFIT_PARAMETERS_H
 
@@ -93,6 +96,10 @@ MESHFIT_NAMED_PARAMETERS(MESHFIT_NAMED_PARAMETER_TAG)
 
 /// A pack of named parameters whose member functions add any meshfit or CGAL parameter, so that a
 /// pack reads left to right: `meshfit::parameters::rbf_kernel(k).progress(cb).number_of_iterations(5)`.
+/// There is one member function template per tag, `template <typename K> Named_parameters<K, tag,
+/// self> name(const K& k) const`, for each of meshfit's tags (the table of parameters.h) and each
+/// of CGAL's (made from CGAL's own list; they hide the base class's members, which would return a
+/// CGAL pack).
 /// It is a `CGAL::Named_function_parameters<T, Tag, Base>` (by derivation; the base class and its
 /// `base` type are CGAL's own), so `CGAL::parameters::get_parameter()` and `choose_parameter()`
 /// read it and CGAL's functions accept it (one limit of the derivation: where CGAL overloads a
@@ -104,10 +111,15 @@ template <typename T, typename Tag, typename Base = CGAL::internal_np::No_proper
 struct Named_parameters : CGAL::Named_function_parameters<T, Tag, Base> {
   /// The CGAL pack this one is (do not name it `base`: CGAL's lookup uses that name).
   using Cgal_named_parameters = CGAL::Named_function_parameters<T, Tag, Base>;
+  /// This type.
   using self = Named_parameters<T, Tag, Base>;
 
+  /// An empty pack (with `T` = `bool` and `Tag` = `CGAL::internal_np::all_default_t`, see
+  /// parameters::default_values()).
   Named_parameters() : Cgal_named_parameters() {}
+  /// A pack of one parameter, `value` for `Tag`.
   explicit Named_parameters(const T& value) : Cgal_named_parameters(value) {}
+  /// `value` for `Tag`, added to the pack `rest`.
   Named_parameters(const T& value, const Base& rest) : Cgal_named_parameters(value, rest) {}
 
   /// This pack as CGAL's own type (the same parameters).
@@ -122,7 +134,9 @@ struct Named_parameters : CGAL::Named_function_parameters<T, Tag, Base> {
 #undef MESHFIT_NAMED_PARAMETER_MEMBER
 
   // Every CGAL parameter, from CGAL's own list (the one CGAL::Named_function_parameters's members
-  // are made from); these hide the base class's members, which would return a CGAL pack.
+  // are made from); these hide the base class's members, which would return a CGAL pack. (Hidden
+  // from the reference, as CGAL hides code from its own: doxygen does not read CGAL's list.)
+#ifndef DOXYGEN_RUNNING
 #define CGAL_add_named_parameter(X, Y, Z)                                    \
   template <typename K>                                                      \
   Named_parameters<K, CGAL::internal_np::X, self> Z(const K& k) const {      \
@@ -130,6 +144,7 @@ struct Named_parameters : CGAL::Named_function_parameters<T, Tag, Base> {
   }
 #include <CGAL/STL_Extension/internal/parameters_interface.h>
 #undef CGAL_add_named_parameter
+#endif  // DOXYGEN_RUNNING
 };
 
 namespace parameters {

@@ -67,21 +67,25 @@ enum class Segment_embedding {
 
 /// What partitioning did.
 struct Partition_report {
-  std::size_t segments = 0;
-  std::size_t existing_edges = 0;
-  std::size_t by_walk = 0;
-  std::size_t by_fallback = 0;
+  std::size_t segments = 0;        ///< segments of the network
+  std::size_t existing_edges = 0;  ///< of those, Segment_embedding::existing_edge
+  std::size_t by_walk = 0;         ///< Segment_embedding::walk
+  std::size_t by_fallback = 0;     ///< Segment_embedding::fallback
   std::vector<std::size_t> not_embedded;          ///< indices into network.segments()
   std::vector<Segment_embedding> how;             ///< per segment
   std::size_t walks_failed = 0;                   ///< walks that did not reach their end (or could not be inserted)
   std::size_t faces_crossed = 0;                  ///< by the walks that were inserted
   std::size_t edge_flips = 0;                     ///< flips kept (flips undone are not counted)
   std::size_t vertices_moved = 0;                 ///< path vertices moved onto their segments
-  std::size_t curve_edges = 0;
-  std::size_t regions = 0;
-  std::size_t vertices = 0, faces = 0;            ///< unchanged by partitioning
+  std::size_t curve_edges = 0;                    ///< edges on the curves at the end
+  std::size_t regions = 0;                        ///< regions labelled
+  std::size_t vertices = 0;                       ///< unchanged by partitioning
+  std::size_t faces = 0;                          ///< unchanged by partitioning
   double seconds = 0;                             ///< in all; by phase:
-  double matching_seconds = 0, walk_seconds = 0, fallback_seconds = 0, region_seconds = 0;
+  double matching_seconds = 0;  ///< network vertices matched to mesh vertices, existing edges taken
+  double walk_seconds = 0;      ///< insertions along the projected paths
+  double fallback_seconds = 0;  ///< shortest paths
+  double region_seconds = 0;    ///< labelling
   /// For each network vertex, the index (in the order of vertices(tm)) of its mesh vertex.
   std::vector<std::size_t> mesh_vertex_of_network_vertex;
 };
@@ -627,16 +631,57 @@ std::vector<typename boost::graph_traits<TriangleMesh>::vertex_descriptor> segme
 /// Makes every segment of `network` a chain of edges of `tm` (see the top of this file) and labels
 /// the regions between them. Every network vertex must be a vertex of `tm` (within the network's
 /// merge tolerance). The numbers of vertices and faces do not change; vertex positions change
-/// only where a path vertex is moved onto its segment. Named parameters:
-///   `vertex_point_map`;
-///   `edge_is_constrained_map` (output: true exactly on the curve edges);
-///   `face_patch_map` (output: the region of each face, numbered from 0);
-///   `vertex_is_constrained_map` (input, optional: vertices that must not move, besides the
-///   network's);
-///   `progress` (stage "partition").
+/// only where a path vertex is moved onto its segment.
 /// A segment that cannot be embedded without folding the mesh is listed in
 /// `report.not_embedded`; the mesh is then left as it was around it.
-/// \throws Invalid_input when `tm` is not a triangle mesh or a network vertex is not a mesh vertex.
+/// \tparam TriangleMesh a model of `MutableFaceGraph` (tested: CGAL::Surface_mesh, CGAL::Polyhedron_3)
+/// \tparam NamedParameters a sequence of named parameters (CGAL's or meshfit's)
+/// \param tm the mesh, whose vertices include the network's (as deform_template leaves it)
+/// \param network the curve network
+/// \param np an optional sequence of named parameters among the ones listed below
+/// \return how each segment was embedded, the counts and the time of each phase
+///
+/// \cgalNamedParamsBegin
+///   \cgalParamNBegin{vertex_point_map}
+///     \cgalParamDescription{a property map associating points to the vertices of `tm`}
+///     \cgalParamType{a class model of `ReadWritePropertyMap` with
+///       `boost::graph_traits<TriangleMesh>::%vertex_descriptor` as key type and
+///       meshfit::Point_3 as value type}
+///     \cgalParamDefault{`boost::get(CGAL::vertex_point, tm)`}
+///     \cgalParamExtra{If this parameter is omitted, an internal property map for `CGAL::vertex_point_t` must be
+///       available in `TriangleMesh`.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{edge_is_constrained_map}
+///     \cgalParamDescription{output: set to `true` exactly on the curve edges (every edge is written)}
+///     \cgalParamType{a class model of `ReadWritePropertyMap` with
+///       `boost::graph_traits<TriangleMesh>::%edge_descriptor` as key type and `bool` as value type}
+///     \cgalParamDefault{an internal map: the curve edges are not returned}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{face_patch_map}
+///     \cgalParamDescription{output: the region of each face, numbered from 0}
+///     \cgalParamType{a class model of `WritablePropertyMap` with
+///       `boost::graph_traits<TriangleMesh>::%face_descriptor` as key type and an integer type
+///       (`std::size_t` fits every value) as value type}
+///     \cgalParamDefault{none: the regions are counted (`report.regions`) but not written}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{vertex_is_constrained_map}
+///     \cgalParamDescription{input: vertices that must not move, besides the network's}
+///     \cgalParamType{a class model of `ReadablePropertyMap` with
+///       `boost::graph_traits<TriangleMesh>::%vertex_descriptor` as key type and `bool` as value type}
+///     \cgalParamDefault{none: only the network's vertices (and the inner vertices of segments that are already edge
+///       chains) are held}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{progress}
+///     \cgalParamDescription{a callback called at each step with a meshfit::Progress_step (stage `"partition"`)}
+///     \cgalParamType{a callable taking `const meshfit::Progress_step&` and returning `bool` (`false` cancels) or
+///       `void` (never cancels)}
+///     \cgalParamDefault{none: no calls, no cancelling}
+///     \cgalParamExtra{When it returns `false`, partition_mesh throws meshfit::Algorithm_failure.}
+///   \cgalParamNEnd
+/// \cgalNamedParamsEnd
+///
+/// \throws Invalid_input when `tm` is not a triangle mesh, the network has no segment, or a
+///         network vertex is not a mesh vertex (or two network vertices have the same one).
 template <typename TriangleMesh, typename NamedParameters = CGAL::parameters::Default_named_parameters>
 Partition_report partition_mesh(TriangleMesh& tm, const Curve_network& network,
                                 const NamedParameters& np = CGAL::parameters::default_values()) {

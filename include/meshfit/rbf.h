@@ -23,6 +23,7 @@ enum class Rbf_kernel {
   linear,  ///< φ(r) = r, biharmonic in 3D: the thesis's choice, piecewise-linear-like interpolation
   cubic    ///< φ(r) = r³, triharmonic: smoother, may overshoot between centres (thesis fig. 2.5)
 };
+/// "linear" or "cubic" (the command line's spelling).
 const char* to_string(Rbf_kernel kernel);
 
 /// The largest relative residual ‖K X − Y‖ / ‖Y‖ accepted after the LU solve.
@@ -44,8 +45,10 @@ struct Rbf_fit_report {
   double relative_residual = 0;        ///< of the linear solve
 };
 
+/// The interpolant E of eq. 2.7 through a set of pairs (centre → value), built by fit().
 class Rbf_interpolant {
  public:
+  /// An empty interpolant (no centres); use fit().
   Rbf_interpolant() = default;
 
   /// Fits E with E(centres[i]) = values[i].
@@ -88,7 +91,9 @@ class Rbf_interpolant {
   /// rotation, translation or uniform scaling of the centres or of the values.
   double affine_determinant() const;
 
+  /// The number of centres, auxiliary pairs included.
   std::size_t number_of_centres() const { return m_cx.size(); }
+  /// The basis function φ of the fit.
   Rbf_kernel kernel() const { return m_kernel; }
 
  private:

@@ -105,12 +105,12 @@ struct Smoothing_report {
   std::size_t iterations = 0;             ///< iterations run (both phases for smooth_fitted_mesh)
   std::size_t mean_curvature_iterations = 0;  ///< smooth_fitted_mesh: iterations of the first phase
   std::size_t laplacian_iterations = 0;       ///< smooth_fitted_mesh: iterations of the second phase
-  std::size_t vertices = 0;
+  std::size_t vertices = 0;               ///< vertices of the mesh
   std::size_t fixed_vertices = 0;         ///< never moved (constrained, boundary, curve vertices)
   double mean_displacement = 0;           ///< mean over all vertices of |p_final − p_initial|
   double max_displacement = 0;            ///< largest |p_final − p_initial|
   double last_step_max_displacement = 0;  ///< largest move in the last iteration (convergence)
-  double seconds = 0;
+  double seconds = 0;                     ///< time of the call
   std::size_t steps_reduced = 0;    ///< vertex steps halved because a face would flip (all iterations)
   std::size_t steps_cancelled = 0;  ///< of those, steps set to zero after 4 halvings
   std::size_t clamped_cotangents = 0;  ///< cotangent weights bounded by cot(1°) (needles, zero-area faces)
@@ -314,14 +314,81 @@ Smoothing_report run_single_flow(TriangleMesh& tm, const NamedParameters& np, Fl
 /// `laplacian_weights` (uniform, eq. 4.3, default; inverse distance, eq. 4.4); with
 /// `laplacian_variant` alpha_current or alpha_original, Vollmer's eq. 4.5 or 4.6 instead (α from
 /// `laplacian_alpha`, default 0.5). Shrinks the shape (that is the thesis's point).
-/// Named parameters: `number_of_iterations` (default 20), `step_size` λ (default 1),
-/// `laplacian_weights`, `laplacian_variant`, `laplacian_alpha`, `vertex_is_constrained_map`,
-/// `edge_is_constrained_map`, `vertex_point_map`, `progress` (stage "smooth", one call per
-/// iteration). Fixed vertices, flip guard: see the top of this file.
+/// Fixed vertices, flip guard: see the top of this file.
 /// \pre `tm` is a triangle mesh.
+/// \tparam TriangleMesh a model of `FaceListGraph` whose faces are triangles (tested:
+///         CGAL::Surface_mesh, CGAL::Polyhedron_3)
+/// \tparam NamedParameters a sequence of named parameters (CGAL's or meshfit's)
+/// \param tm the mesh, smoothed in place (its connectivity does not change)
+/// \param np an optional sequence of named parameters among the ones listed below
+/// \return what the flow did (Smoothing_report)
+///
+/// \cgalNamedParamsBegin
+///   \cgalParamNBegin{number_of_iterations}
+///     \cgalParamDescription{the number of iterations}
+///     \cgalParamType{an integer type}
+///     \cgalParamDefault{`20`}
+///     \cgalParamExtra{A negative value throws meshfit::Invalid_input.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{step_size}
+///     \cgalParamDescription{the step λ (of the umbrella operator, or of λ h̄² for the mean curvature, h̄ the mean edge
+///       length at the call)}
+///     \cgalParamType{`double` in (0, 1]}
+///     \cgalParamDefault{`1`}
+///     \cgalParamExtra{A value outside (0, 1] throws meshfit::Invalid_input.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{laplacian_weights}
+///     \cgalParamDescription{the weights of the umbrella operator (eq. 4.3 or 4.4)}
+///     \cgalParamType{meshfit::Laplacian_weights}
+///     \cgalParamDefault{`meshfit::Laplacian_weights::uniform`}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{laplacian_variant}
+///     \cgalParamDescription{Vollmer's variant (eq. 4.5, 4.6) instead of eq. 4.1}
+///     \cgalParamType{meshfit::Laplacian_variant}
+///     \cgalParamDefault{`meshfit::Laplacian_variant::none`}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{laplacian_alpha}
+///     \cgalParamDescription{α of the variants}
+///     \cgalParamType{`double` in [0, 1]}
+///     \cgalParamDefault{`0.5`}
+///     \cgalParamExtra{A value outside [0, 1] throws meshfit::Invalid_input (checked by every flow).}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{vertex_is_constrained_map}
+///     \cgalParamDescription{input: vertices that must not move}
+///     \cgalParamType{a class model of `ReadablePropertyMap` with
+///       `boost::graph_traits<TriangleMesh>::%vertex_descriptor` as key type and `bool` as value type}
+///     \cgalParamDefault{none: no vertex is constrained by the caller}
+///     \cgalParamExtra{Boundary vertices and the vertices of constrained edges never move either.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{edge_is_constrained_map}
+///     \cgalParamDescription{input: the curve edges; their vertices do not move, and the projections of the modified
+///       flows never cross them}
+///     \cgalParamType{a class model of `ReadablePropertyMap` with
+///       `boost::graph_traits<TriangleMesh>::%edge_descriptor` as key type and `bool` as value type}
+///     \cgalParamDefault{none: no edge is constrained}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{vertex_point_map}
+///     \cgalParamDescription{a property map associating points to the vertices of `tm`}
+///     \cgalParamType{a class model of `ReadWritePropertyMap` with
+///       `boost::graph_traits<TriangleMesh>::%vertex_descriptor` as key type and
+///       meshfit::Point_3 as value type}
+///     \cgalParamDefault{`boost::get(CGAL::vertex_point, tm)`}
+///     \cgalParamExtra{If this parameter is omitted, an internal property map for `CGAL::vertex_point_t` must be
+///       available in `TriangleMesh`.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{progress}
+///     \cgalParamDescription{a callback called at each step with a meshfit::Progress_step (stage `"smooth"`)}
+///     \cgalParamType{a callable taking `const meshfit::Progress_step&` and returning `bool` (`false` cancels) or
+///       `void` (never cancels)}
+///     \cgalParamDefault{none: no calls, no cancelling}
+///     \cgalParamExtra{One call per iteration. When it returns `false`, the flow throws meshfit::Algorithm_failure and
+///       `tm` is unchanged.}
+///   \cgalParamNEnd
+/// \cgalNamedParamsEnd///
 /// \throws Invalid_input for a face that is not a triangle, a non-finite coordinate, λ outside
-///         (0, 1], α outside [0, 1] or a negative iteration count; Algorithm_failure when the
-///         progress callback returns false (`tm` is then unchanged).
+///         (0, 1], α outside [0, 1] or a negative iteration count.
+/// \throws Algorithm_failure when the progress callback returns false (`tm` is then unchanged).
+/// \throws Numerical_error if a position became non-finite (the guards are meant to prevent it).
 template <typename TriangleMesh, typename NamedParameters = CGAL::parameters::Default_named_parameters>
 Smoothing_report laplacian_flow(TriangleMesh& tm, const NamedParameters& np = CGAL::parameters::default_values()) {
   return internal::run_single_flow(tm, np, internal::Flow_kind::laplacian, 20);
@@ -330,8 +397,64 @@ Smoothing_report laplacian_flow(TriangleMesh& tm, const NamedParameters& np = CG
 /// Mean-curvature flow (eq. 4.7–4.8): p^{k+1} = p^k + τ H(p^k), H = Σ (cot α_i + cot β_i)(q_i − p^k)
 /// / (4A), A the area of the faces around p^k, τ = λ h̄² (h̄ the mean edge length at the call),
 /// bounded per vertex as described at the top of this file (cotangents clamped at 1°, zero area
-/// → no motion). Named parameters as laplacian_flow (default 60 iterations, λ = 1; the weights
-/// and variants do not apply). \throws as laplacian_flow.
+/// → no motion). The Laplacian weights and variants do not apply.
+/// \tparam TriangleMesh a model of `FaceListGraph` whose faces are triangles (tested:
+///         CGAL::Surface_mesh, CGAL::Polyhedron_3)
+/// \tparam NamedParameters a sequence of named parameters (CGAL's or meshfit's)
+/// \param tm the mesh, smoothed in place (its connectivity does not change)
+/// \param np an optional sequence of named parameters among the ones listed below
+/// \return what the flow did (Smoothing_report)
+///
+/// \cgalNamedParamsBegin
+///   \cgalParamNBegin{number_of_iterations}
+///     \cgalParamDescription{the number of iterations}
+///     \cgalParamType{an integer type}
+///     \cgalParamDefault{`60`}
+///     \cgalParamExtra{A negative value throws meshfit::Invalid_input.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{step_size}
+///     \cgalParamDescription{the step λ (of the umbrella operator, or of λ h̄² for the mean curvature, h̄ the mean edge
+///       length at the call)}
+///     \cgalParamType{`double` in (0, 1]}
+///     \cgalParamDefault{`1`}
+///     \cgalParamExtra{A value outside (0, 1] throws meshfit::Invalid_input.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{vertex_is_constrained_map}
+///     \cgalParamDescription{input: vertices that must not move}
+///     \cgalParamType{a class model of `ReadablePropertyMap` with
+///       `boost::graph_traits<TriangleMesh>::%vertex_descriptor` as key type and `bool` as value type}
+///     \cgalParamDefault{none: no vertex is constrained by the caller}
+///     \cgalParamExtra{Boundary vertices and the vertices of constrained edges never move either.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{edge_is_constrained_map}
+///     \cgalParamDescription{input: the curve edges; their vertices do not move, and the projections of the modified
+///       flows never cross them}
+///     \cgalParamType{a class model of `ReadablePropertyMap` with
+///       `boost::graph_traits<TriangleMesh>::%edge_descriptor` as key type and `bool` as value type}
+///     \cgalParamDefault{none: no edge is constrained}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{vertex_point_map}
+///     \cgalParamDescription{a property map associating points to the vertices of `tm`}
+///     \cgalParamType{a class model of `ReadWritePropertyMap` with
+///       `boost::graph_traits<TriangleMesh>::%vertex_descriptor` as key type and
+///       meshfit::Point_3 as value type}
+///     \cgalParamDefault{`boost::get(CGAL::vertex_point, tm)`}
+///     \cgalParamExtra{If this parameter is omitted, an internal property map for `CGAL::vertex_point_t` must be
+///       available in `TriangleMesh`.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{progress}
+///     \cgalParamDescription{a callback called at each step with a meshfit::Progress_step (stage `"smooth"`)}
+///     \cgalParamType{a callable taking `const meshfit::Progress_step&` and returning `bool` (`false` cancels) or
+///       `void` (never cancels)}
+///     \cgalParamDefault{none: no calls, no cancelling}
+///     \cgalParamExtra{One call per iteration. When it returns `false`, the flow throws meshfit::Algorithm_failure and
+///       `tm` is unchanged.}
+///   \cgalParamNEnd
+/// \cgalNamedParamsEnd///
+/// \throws Invalid_input for a face that is not a triangle, a non-finite coordinate, λ outside
+///         (0, 1], α outside [0, 1] or a negative iteration count.
+/// \throws Algorithm_failure when the progress callback returns false (`tm` is then unchanged).
+/// \throws Numerical_error if a position became non-finite (the guards are meant to prevent it).
 template <typename TriangleMesh, typename NamedParameters = CGAL::parameters::Default_named_parameters>
 Smoothing_report mean_curvature_flow(TriangleMesh& tm, const NamedParameters& np = CGAL::parameters::default_values()) {
   return internal::run_single_flow(tm, np, internal::Flow_kind::mean_curvature, 60);
@@ -340,7 +463,64 @@ Smoothing_report mean_curvature_flow(TriangleMesh& tm, const NamedParameters& np
 /// Modified mean-curvature flow (eq. 4.9, 4.12): the mean-curvature step of mean_curvature_flow,
 /// projected onto the surface of the previous iteration (the walk described at the top of this
 /// file): vertices slide on the previous surface, which removes noise while shrinking far less.
-/// Named parameters as mean_curvature_flow (default 50 iterations). \throws as laplacian_flow.
+/// The Laplacian weights and variants do not apply.
+/// \tparam TriangleMesh a model of `FaceListGraph` whose faces are triangles (tested:
+///         CGAL::Surface_mesh, CGAL::Polyhedron_3)
+/// \tparam NamedParameters a sequence of named parameters (CGAL's or meshfit's)
+/// \param tm the mesh, smoothed in place (its connectivity does not change)
+/// \param np an optional sequence of named parameters among the ones listed below
+/// \return what the flow did (Smoothing_report)
+///
+/// \cgalNamedParamsBegin
+///   \cgalParamNBegin{number_of_iterations}
+///     \cgalParamDescription{the number of iterations}
+///     \cgalParamType{an integer type}
+///     \cgalParamDefault{`50`}
+///     \cgalParamExtra{A negative value throws meshfit::Invalid_input.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{step_size}
+///     \cgalParamDescription{the step λ (of the umbrella operator, or of λ h̄² for the mean curvature, h̄ the mean edge
+///       length at the call)}
+///     \cgalParamType{`double` in (0, 1]}
+///     \cgalParamDefault{`1`}
+///     \cgalParamExtra{A value outside (0, 1] throws meshfit::Invalid_input.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{vertex_is_constrained_map}
+///     \cgalParamDescription{input: vertices that must not move}
+///     \cgalParamType{a class model of `ReadablePropertyMap` with
+///       `boost::graph_traits<TriangleMesh>::%vertex_descriptor` as key type and `bool` as value type}
+///     \cgalParamDefault{none: no vertex is constrained by the caller}
+///     \cgalParamExtra{Boundary vertices and the vertices of constrained edges never move either.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{edge_is_constrained_map}
+///     \cgalParamDescription{input: the curve edges; their vertices do not move, and the projections of the modified
+///       flows never cross them}
+///     \cgalParamType{a class model of `ReadablePropertyMap` with
+///       `boost::graph_traits<TriangleMesh>::%edge_descriptor` as key type and `bool` as value type}
+///     \cgalParamDefault{none: no edge is constrained}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{vertex_point_map}
+///     \cgalParamDescription{a property map associating points to the vertices of `tm`}
+///     \cgalParamType{a class model of `ReadWritePropertyMap` with
+///       `boost::graph_traits<TriangleMesh>::%vertex_descriptor` as key type and
+///       meshfit::Point_3 as value type}
+///     \cgalParamDefault{`boost::get(CGAL::vertex_point, tm)`}
+///     \cgalParamExtra{If this parameter is omitted, an internal property map for `CGAL::vertex_point_t` must be
+///       available in `TriangleMesh`.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{progress}
+///     \cgalParamDescription{a callback called at each step with a meshfit::Progress_step (stage `"smooth"`)}
+///     \cgalParamType{a callable taking `const meshfit::Progress_step&` and returning `bool` (`false` cancels) or
+///       `void` (never cancels)}
+///     \cgalParamDefault{none: no calls, no cancelling}
+///     \cgalParamExtra{One call per iteration. When it returns `false`, the flow throws meshfit::Algorithm_failure and
+///       `tm` is unchanged.}
+///   \cgalParamNEnd
+/// \cgalNamedParamsEnd///
+/// \throws Invalid_input for a face that is not a triangle, a non-finite coordinate, λ outside
+///         (0, 1], α outside [0, 1] or a negative iteration count.
+/// \throws Algorithm_failure when the progress callback returns false (`tm` is then unchanged).
+/// \throws Numerical_error if a position became non-finite (the guards are meant to prevent it).
 template <typename TriangleMesh, typename NamedParameters = CGAL::parameters::Default_named_parameters>
 Smoothing_report modified_mean_curvature_flow(TriangleMesh& tm,
                                               const NamedParameters& np = CGAL::parameters::default_values()) {
@@ -354,9 +534,78 @@ Smoothing_report modified_mean_curvature_flow(TriangleMesh& tm,
 /// vertices(tm)), `tm`'s connectivity at those positions. Every free vertex ends each iteration
 /// on the reference surface (eq. 4.11 writes p^0 + projected Δ(p^k); the text and fig. 4.12 put
 /// p^{k+1} on the face of the original surface, which is what is done: p^k + projected step,
-/// landing on that face). Evens out the triangles without changing the shape. Named parameters as
-/// laplacian_flow (default 50 iterations, λ = 1; the variants do not apply).
-/// \throws as laplacian_flow, and Invalid_input when `reference_points` has the wrong size.
+/// landing on that face). Evens out the triangles without changing the shape. The variants do
+/// not apply.
+/// \tparam TriangleMesh a model of `FaceListGraph` whose faces are triangles (tested:
+///         CGAL::Surface_mesh, CGAL::Polyhedron_3)
+/// \tparam NamedParameters a sequence of named parameters (CGAL's or meshfit's)
+/// \param tm the mesh, smoothed in place (its connectivity does not change)
+/// \param np an optional sequence of named parameters among the ones listed below
+/// \return what the flow did (Smoothing_report)
+///
+/// \cgalNamedParamsBegin
+///   \cgalParamNBegin{number_of_iterations}
+///     \cgalParamDescription{the number of iterations}
+///     \cgalParamType{an integer type}
+///     \cgalParamDefault{`50`}
+///     \cgalParamExtra{A negative value throws meshfit::Invalid_input.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{step_size}
+///     \cgalParamDescription{the step λ (of the umbrella operator, or of λ h̄² for the mean curvature, h̄ the mean edge
+///       length at the call)}
+///     \cgalParamType{`double` in (0, 1]}
+///     \cgalParamDefault{`1`}
+///     \cgalParamExtra{A value outside (0, 1] throws meshfit::Invalid_input.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{laplacian_weights}
+///     \cgalParamDescription{the weights of the umbrella operator (eq. 4.3 or 4.4)}
+///     \cgalParamType{meshfit::Laplacian_weights}
+///     \cgalParamDefault{`meshfit::Laplacian_weights::uniform` (eq. 4.10)}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{reference_points}
+///     \cgalParamDescription{the positions of the reference surface, one per vertex in the order of `vertices(tm)`
+///       (`tm`'s connectivity at those positions)}
+///     \cgalParamType{`std::vector<meshfit::Point_3>`}
+///     \cgalParamDefault{the positions at the call}
+///     \cgalParamExtra{A vector of another size throws meshfit::Invalid_input.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{vertex_is_constrained_map}
+///     \cgalParamDescription{input: vertices that must not move}
+///     \cgalParamType{a class model of `ReadablePropertyMap` with
+///       `boost::graph_traits<TriangleMesh>::%vertex_descriptor` as key type and `bool` as value type}
+///     \cgalParamDefault{none: no vertex is constrained by the caller}
+///     \cgalParamExtra{Boundary vertices and the vertices of constrained edges never move either.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{edge_is_constrained_map}
+///     \cgalParamDescription{input: the curve edges; their vertices do not move, and the projections of the modified
+///       flows never cross them}
+///     \cgalParamType{a class model of `ReadablePropertyMap` with
+///       `boost::graph_traits<TriangleMesh>::%edge_descriptor` as key type and `bool` as value type}
+///     \cgalParamDefault{none: no edge is constrained}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{vertex_point_map}
+///     \cgalParamDescription{a property map associating points to the vertices of `tm`}
+///     \cgalParamType{a class model of `ReadWritePropertyMap` with
+///       `boost::graph_traits<TriangleMesh>::%vertex_descriptor` as key type and
+///       meshfit::Point_3 as value type}
+///     \cgalParamDefault{`boost::get(CGAL::vertex_point, tm)`}
+///     \cgalParamExtra{If this parameter is omitted, an internal property map for `CGAL::vertex_point_t` must be
+///       available in `TriangleMesh`.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{progress}
+///     \cgalParamDescription{a callback called at each step with a meshfit::Progress_step (stage `"smooth"`)}
+///     \cgalParamType{a callable taking `const meshfit::Progress_step&` and returning `bool` (`false` cancels) or
+///       `void` (never cancels)}
+///     \cgalParamDefault{none: no calls, no cancelling}
+///     \cgalParamExtra{One call per iteration. When it returns `false`, the flow throws meshfit::Algorithm_failure and
+///       `tm` is unchanged.}
+///   \cgalParamNEnd
+/// \cgalNamedParamsEnd///
+/// \throws Invalid_input for a face that is not a triangle, a non-finite coordinate, λ outside
+///         (0, 1], α outside [0, 1] or a negative iteration count.
+/// \throws Algorithm_failure when the progress callback returns false (`tm` is then unchanged).
+/// \throws Numerical_error if a position became non-finite (the guards are meant to prevent it).
+/// \throws Invalid_input when `reference_points` has the wrong size.
 template <typename TriangleMesh, typename NamedParameters = CGAL::parameters::Default_named_parameters>
 Smoothing_report modified_laplacian_flow(TriangleMesh& tm,
                                          const NamedParameters& np = CGAL::parameters::default_values()) {
@@ -365,18 +614,90 @@ Smoothing_report modified_laplacian_flow(TriangleMesh& tm,
 
 /// The thesis's method (§4.3, §4.4): modified_mean_curvature_flow to remove the distortion, then
 /// modified_laplacian_flow to even out the triangles, whose reference surface is the mesh after
-/// the first phase (projecting back onto the noisy input would restore the noise). Named
-/// parameters: `number_of_iterations` (default 100: one fifth modified mean curvature, the rest
-/// modified Laplacian), `mean_curvature_iterations` and `laplacian_iterations` (each phase's count,
-/// overriding that split), `step_size` (both phases, default 1), `laplacian_weights`,
-/// `vertex_is_constrained_map`, `edge_is_constrained_map`, `vertex_point_map`, `progress` (one
-/// call per iteration of either phase, numbered through both). `reference_points` is not used.
+/// the first phase (projecting back onto the noisy input would restore the noise).
+/// `reference_points` is not used.
 /// Why one fifth: on the noisy sphere and torus of test/smooth_test.cpp the modified mean
 /// curvature has removed the noise after about 20 iterations; later iterations only shrink the
 /// shape a little more (each lands the vertices on the chords of the previous surface) and
 /// stretch the triangles along the cotangent weights' tangential drift, which the Laplacian
 /// phase then has to undo (measured: 20/80 keeps 98.9% of the sphere's volume, 50/50 98.4%).
-/// \throws as laplacian_flow.
+///
+/// \tparam TriangleMesh a model of `FaceListGraph` whose faces are triangles (tested:
+///         CGAL::Surface_mesh, CGAL::Polyhedron_3)
+/// \tparam NamedParameters a sequence of named parameters (CGAL's or meshfit's)
+/// \param tm the mesh, smoothed in place (its connectivity does not change)
+/// \param np an optional sequence of named parameters among the ones listed below
+/// \return what the flow did (Smoothing_report)
+///
+/// \cgalNamedParamsBegin
+///   \cgalParamNBegin{number_of_iterations}
+///     \cgalParamDescription{the iterations of both phases: one fifth (rounded down) modified mean curvature, the rest
+///       modified Laplacian}
+///     \cgalParamType{an integer type}
+///     \cgalParamDefault{`100`}
+///     \cgalParamExtra{A negative value throws meshfit::Invalid_input.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{mean_curvature_iterations}
+///     \cgalParamDescription{the iterations of the first phase (modified mean curvature), overriding the split}
+///     \cgalParamType{an integer type}
+///     \cgalParamDefault{`number_of_iterations / 5` (integer division): `20`}
+///     \cgalParamExtra{A negative value throws meshfit::Invalid_input.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{laplacian_iterations}
+///     \cgalParamDescription{the iterations of the second phase (modified Laplacian), overriding the split}
+///     \cgalParamType{an integer type}
+///     \cgalParamDefault{`number_of_iterations - number_of_iterations / 5`: `80`}
+///     \cgalParamExtra{A negative value throws meshfit::Invalid_input.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{step_size}
+///     \cgalParamDescription{the step of both phases λ (of the umbrella operator, or of λ h̄² for the mean curvature, h̄ the mean edge
+///       length at the call)}
+///     \cgalParamType{`double` in (0, 1]}
+///     \cgalParamDefault{`1`}
+///     \cgalParamExtra{A value outside (0, 1] throws meshfit::Invalid_input.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{laplacian_weights}
+///     \cgalParamDescription{the weights of the umbrella operator (eq. 4.3 or 4.4)}
+///     \cgalParamType{meshfit::Laplacian_weights}
+///     \cgalParamDefault{`meshfit::Laplacian_weights::uniform` (the second phase's umbrella operator)}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{vertex_is_constrained_map}
+///     \cgalParamDescription{input: vertices that must not move}
+///     \cgalParamType{a class model of `ReadablePropertyMap` with
+///       `boost::graph_traits<TriangleMesh>::%vertex_descriptor` as key type and `bool` as value type}
+///     \cgalParamDefault{none: no vertex is constrained by the caller}
+///     \cgalParamExtra{Boundary vertices and the vertices of constrained edges never move either.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{edge_is_constrained_map}
+///     \cgalParamDescription{input: the curve edges; their vertices do not move, and the projections of the modified
+///       flows never cross them}
+///     \cgalParamType{a class model of `ReadablePropertyMap` with
+///       `boost::graph_traits<TriangleMesh>::%edge_descriptor` as key type and `bool` as value type}
+///     \cgalParamDefault{none: no edge is constrained}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{vertex_point_map}
+///     \cgalParamDescription{a property map associating points to the vertices of `tm`}
+///     \cgalParamType{a class model of `ReadWritePropertyMap` with
+///       `boost::graph_traits<TriangleMesh>::%vertex_descriptor` as key type and
+///       meshfit::Point_3 as value type}
+///     \cgalParamDefault{`boost::get(CGAL::vertex_point, tm)`}
+///     \cgalParamExtra{If this parameter is omitted, an internal property map for `CGAL::vertex_point_t` must be
+///       available in `TriangleMesh`.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{progress}
+///     \cgalParamDescription{a callback called at each step with a meshfit::Progress_step (stage `"smooth"`)}
+///     \cgalParamType{a callable taking `const meshfit::Progress_step&` and returning `bool` (`false` cancels) or
+///       `void` (never cancels)}
+///     \cgalParamDefault{none: no calls, no cancelling}
+///     \cgalParamExtra{One call per iteration of either phase, numbered through both. When it returns `false`,
+///       smooth_fitted_mesh throws meshfit::Algorithm_failure and `tm` is unchanged.}
+///   \cgalParamNEnd
+/// \cgalNamedParamsEnd///
+/// \throws Invalid_input for a face that is not a triangle, a non-finite coordinate, λ outside
+///         (0, 1], α outside [0, 1] or a negative iteration count.
+/// \throws Algorithm_failure when the progress callback returns false (`tm` is then unchanged).
+/// \throws Numerical_error if a position became non-finite (the guards are meant to prevent it).
+///
 /// Named `smooth_fitted_mesh`, not `smooth_mesh`: with `using namespace meshfit;` and `using
 /// namespace CGAL::Polygon_mesh_processing;` a `smooth_mesh(tm)` call was ambiguous with CGAL's
 /// (deprecated) `PMP::smooth_mesh`, and `smooth_mesh(tm, CGAL::parameters::…)` silently called

@@ -47,6 +47,7 @@ enum class Walk_status {
   no_exit              ///< from a vertex on the path, no face continues it
 };
 
+/// A short phrase for messages: "reached", "left the mesh through its boundary", ….
 inline const char* to_string(Walk_status s) {
   switch (s) {
     case Walk_status::reached: return "reached";
@@ -68,7 +69,9 @@ inline const char* to_string(Walk_status s) {
 /// decides which edges the walk crosses and which edges the re-triangulation must remove, so
 /// the two always agree. The cutting plane is the plane through a and b containing N.
 struct Cutting_plane {
-  Point_3 a, b, e;
+  Point_3 a;  ///< the segment's start
+  Point_3 b;  ///< the segment's end
+  Point_3 e;  ///< the auxiliary point (see above)
   Plane_orientation view;  ///< orientation in the view along N: in the plane of (a, b, e)
   /// Exact side of `p` (a and b themselves, which end most walks, without arithmetic).
   CGAL::Sign side(const Point_3& p) const { return p == a || p == b ? CGAL::ZERO : view(a, b, p); }
@@ -76,7 +79,9 @@ struct Cutting_plane {
   bool strictly_between(const Point_3& p) const {
     return CGAL::angle(b, a, p) == CGAL::ACUTE && CGAL::angle(a, b, p) == CGAL::ACUTE;
   }
+  /// Exact: p's projection on the line ab lies before a (away from b).
   bool behind_a(const Point_3& p) const { return CGAL::angle(b, a, p) == CGAL::OBTUSE; }
+  /// Exact: p's projection on the line ab lies past b.
   bool past_b(const Point_3& p) const { return CGAL::angle(a, b, p) == CGAL::OBTUSE; }
   /// Signed distance-like value of `p` (floating point; only to construct crossing points).
   double height(const Point_3& p) const {
@@ -89,16 +94,19 @@ struct Cutting_plane {
 /// consecutive waypoints, the edges it crosses.
 template <typename TriangleMesh>
 struct Surface_path {
+  /// The mesh's vertex type.
   using vertex_descriptor = typename boost::graph_traits<TriangleMesh>::vertex_descriptor;
+  /// The mesh's halfedge type.
   using halfedge_descriptor = typename boost::graph_traits<TriangleMesh>::halfedge_descriptor;
 
-  Walk_status status = Walk_status::no_exit;
-  Cutting_plane plane;
-  std::vector<vertex_descriptor> waypoints;
+  Walk_status status = Walk_status::no_exit;  ///< how the walk ended
+  Cutting_plane plane;                        ///< the plane the walk followed
+  std::vector<vertex_descriptor> waypoints;   ///< from the segment's start to its end (when reached)
   /// crossings[i]: the edges crossed between waypoints[i] and waypoints[i+1], in order, each as
   /// the halfedge of the face the path leaves.
   std::vector<std::vector<halfedge_descriptor>> crossings;
 
+  /// The number of faces the path runs through (0 unless the end was reached).
   std::size_t faces_crossed() const {
     std::size_t n = 0;
     for (const auto& c : crossings) n += c.size() + 1;
@@ -333,10 +341,41 @@ class Segment_walker {
 
 /// The projected path of the segment from vertex `source` to vertex `target` of `tm` (thesis
 /// appendix A, with one cutting plane per segment as described at the top of this file).
-/// Named parameters: `vertex_point_map`; `edge_is_constrained_map` (edges the path must not
-/// cross; default none); `vertex_is_constrained_map` (vertices it must not pass through, its two
-/// ends excepted; default none). The result's `status` says whether `target` was reached; the
-/// waypoints and crossings are filled only then.
+/// The result's `status` says whether `target` was reached; the waypoints and crossings are
+/// filled only then.
+/// \tparam TriangleMesh a model of `FaceGraph` whose faces are triangles
+/// \tparam NamedParameters a sequence of named parameters (CGAL's or meshfit's)
+/// \param tm the mesh
+/// \param source the segment's start, a vertex of `tm`
+/// \param target the segment's end, another vertex of `tm`
+/// \param np an optional sequence of named parameters among the ones listed below
+/// \return the path (Surface_path), or why the walk stopped (`status`)
+///
+/// \cgalNamedParamsBegin
+///   \cgalParamNBegin{vertex_point_map}
+///     \cgalParamDescription{a property map associating points to the vertices of `tm`}
+///     \cgalParamType{a class model of `ReadablePropertyMap` with
+///       `boost::graph_traits<TriangleMesh>::%vertex_descriptor` as key type and
+///       meshfit::Point_3 as value type}
+///     \cgalParamDefault{`boost::get(CGAL::vertex_point, tm)`}
+///     \cgalParamExtra{If this parameter is omitted, an internal property map for `CGAL::vertex_point_t` must be
+///       available in `TriangleMesh`.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{edge_is_constrained_map}
+///     \cgalParamDescription{input: the edges the path must not cross}
+///     \cgalParamType{a class model of `ReadablePropertyMap` with
+///       `boost::graph_traits<TriangleMesh>::%edge_descriptor` as key type and `bool` as value type}
+///     \cgalParamDefault{none: every edge may be crossed}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{vertex_is_constrained_map}
+///     \cgalParamDescription{input: the vertices the path must not pass through (its two ends excepted)}
+///     \cgalParamType{a class model of `ReadablePropertyMap` with
+///       `boost::graph_traits<TriangleMesh>::%vertex_descriptor` as key type and `bool` as value type}
+///     \cgalParamDefault{none: every vertex may be passed through}
+///   \cgalParamNEnd
+/// \cgalNamedParamsEnd
+///
+/// \throws Invalid_input when `source` and `target` are the same vertex.
 template <typename TriangleMesh, typename NamedParameters = CGAL::parameters::Default_named_parameters>
 Surface_path<TriangleMesh> project_segment(const TriangleMesh& tm,
                                            typename boost::graph_traits<TriangleMesh>::vertex_descriptor source,

@@ -28,9 +28,11 @@ namespace meshfit {
 /// What an untangling did. Orientations here are in floating point (the caller's exact
 /// predicates decide).
 struct Untangle_report {
-  std::size_t free_vertices = 0, faces = 0;
+  std::size_t free_vertices = 0;  ///< vertices that could move
+  std::size_t faces = 0;          ///< faces with a free corner (the others are left out)
   std::size_t outer_iterations = 0;  ///< decreases of ε (the work is bounded: about 8e6 face evaluations)
-  std::size_t inverted_before = 0, inverted_after = 0;
+  std::size_t inverted_before = 0;   ///< faces not positively oriented before
+  std::size_t inverted_after = 0;    ///< and after
 };
 
 /// Moves the free vertices among `positions` so that each of `faces` is positively oriented in the
