@@ -1,4 +1,5 @@
 #include <meshfit/check.h>
+#include <meshfit/internal/smallest_angle.h>
 
 #include <algorithm>
 #include <cmath>
@@ -81,16 +82,10 @@ Mesh_summary summarize_mesh(const Mesh_data& mesh) {
 }
 
 double minimum_angle_degrees(const Mesh_data& m) {
-  double best = 180;
+  double best = CGAL_PI;
   for (const auto& t : m.triangles)
-    for (int k = 0; k < 3; ++k) {
-      const Vector_3 a = m.points[t[(k + 1) % 3]] - m.points[t[k]];
-      const Vector_3 b = m.points[t[(k + 2) % 3]] - m.points[t[k]];
-      const double la = std::sqrt(a.squared_length()), lb = std::sqrt(b.squared_length());
-      if (la > 0 && lb > 0) best = std::min(best, std::acos(std::max(-1.0, std::min(1.0, a * b / (la * lb)))) * 180 / CGAL_PI);
-      else best = 0;
-    }
-  return best;
+    best = std::min(best, internal::smallest_angle(m.points[t[0]], m.points[t[1]], m.points[t[2]]));
+  return best * 180 / CGAL_PI;
 }
 
 Check_summary check_inputs(const std::string& template_path, const std::string& curves_path,

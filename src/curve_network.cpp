@@ -18,6 +18,7 @@
 #include <iterator>
 #include <cmath>
 #include <numeric>
+#include <tuple>
 #include <ostream>
 
 namespace meshfit {
@@ -30,9 +31,34 @@ std::string polyline_name(std::size_t k) { return "polyline " + std::to_string(k
 }  // namespace
 
 std::array<long long, 3> Curve_network::cell_of(const Point_3& p) const {
-  return {static_cast<long long>(std::floor((p.x() - m_bbox.xmin()) / m_tolerance)),
-          static_cast<long long>(std::floor((p.y() - m_bbox.ymin()) / m_tolerance)),
-          static_cast<long long>(std::floor((p.z() - m_bbox.zmin()) / m_tolerance))};
+  const double side = 2 * m_tolerance;
+  return {static_cast<long long>(std::floor((p.x() - m_bbox.xmin()) / side)),
+          static_cast<long long>(std::floor((p.y() - m_bbox.ymin()) / side)),
+          static_cast<long long>(std::floor((p.z() - m_bbox.zmin()) / side))};
+}
+
+// Calls visit(item) for every entry of `grid` (sorted by cell) that may lie within tolerance() of
+// p: in p's cell or a neighbour on the side p is nearer to (cells are 2 tolerance() wide), or on
+// both sides when p is about halfway. Entries of one column (x, y) are contiguous in z.
+template <typename Visit>
+void Curve_network::visit_near(const std::vector<Cell_entry>& grid, const Point_3& p, const Visit& visit) const {
+  const auto c = cell_of(p);
+  const double side = 2 * m_tolerance;
+  const double q[3] = {(p.x() - m_bbox.xmin()) / side, (p.y() - m_bbox.ymin()) / side, (p.z() - m_bbox.zmin()) / side};
+  long long lo[3], hi[3];
+  for (int i = 0; i < 3; ++i) {
+    const double f = q[i] - static_cast<double>(c[i]);
+    lo[i] = c[i] - (f < 0.501 ? 1 : 0);
+    hi[i] = c[i] + (f > 0.499 ? 1 : 0);
+  }
+  const auto less = [](const Cell_entry& e, const std::array<long long, 3>& k) {
+    return std::tie(e.cell[0], e.cell[1], e.cell[2]) < std::tie(k[0], k[1], k[2]);
+  };
+  for (long long x = lo[0]; x <= hi[0]; ++x)
+    for (long long y = lo[1]; y <= hi[1]; ++y) {
+      auto it = std::lower_bound(grid.begin(), grid.end(), std::array<long long, 3>{x, y, lo[2]}, less);
+      for (; it != grid.end() && it->cell[0] == x && it->cell[1] == y && it->cell[2] <= hi[2]; ++it) visit(it->item);
+    }
 }
 
 std::optional<std::size_t> Curve_network::find_vertex(const Point_3& p) const {
@@ -43,22 +69,15 @@ std::optional<std::size_t> Curve_network::find_vertex(const Point_3& p) const {
   if (p.x() < m_bbox.xmin() - t || p.x() > m_bbox.xmax() + t || p.y() < m_bbox.ymin() - t ||
       p.y() > m_bbox.ymax() + t || p.z() < m_bbox.zmin() - t || p.z() > m_bbox.zmax() + t)
     return std::nullopt;
-  const auto c = cell_of(p);
   std::optional<std::size_t> best;
   double best_d2 = t * t;
-  for (long long dx = -1; dx <= 1; ++dx)
-    for (long long dy = -1; dy <= 1; ++dy)
-      for (long long dz = -1; dz <= 1; ++dz) {
-        const auto it = m_cells.find({c[0] + dx, c[1] + dy, c[2] + dz});
-        if (it == m_cells.end()) continue;
-        for (std::size_t v : it->second) {
-          const double d2 = CGAL::squared_distance(p, m_points[v]);
-          if (d2 < best_d2 || (d2 == best_d2 && (!best || v < *best))) {
-            best_d2 = d2;
-            best = v;
-          }
-        }
-      }
+  visit_near(m_cells, p, [&](std::size_t v) {
+    const double d2 = CGAL::squared_distance(p, m_points[v]);
+    if (d2 < best_d2 || (d2 == best_d2 && (!best || v < *best))) {
+      best_d2 = d2;
+      best = v;
+    }
+  });
   return best;
 }
 
@@ -87,44 +106,82 @@ Curve_network::Curve_network(const std::vector<Polyline>& polylines, double rela
   m_relative_tolerance = relative_tolerance;
   m_tolerance = relative_tolerance * diagonal;
 
-  // Merge points: each point joins the nearest existing vertex within the tolerance, else
-  // becomes a vertex. Processing in input order makes the result deterministic.
-  for (std::size_t k = 0; k < polylines.size(); ++k) {
+  // Merge points: each point joins the nearest vertex within the tolerance made by an earlier
+  // point (the lowest such vertex when several are nearest), else becomes a vertex: the result of
+  // taking the points one by one in input order. The grid holds every point (by its position in
+  // input order) so that it is sorted once.
+  std::vector<std::size_t> first_point{0};
+  for (const auto& line : polylines) first_point.push_back(first_point.back() + line.size());
+  const std::size_t total = first_point.back();
+  std::vector<Cell_entry> all;
+  all.reserve(total);
+  for (std::size_t k = 0, g = 0; k < polylines.size(); ++k)
+    for (const Point_3& p : polylines[k]) all.push_back({cell_of(p), g++});
+  std::sort(all.begin(), all.end(), [](const Cell_entry& a, const Cell_entry& b) {
+    return std::tie(a.cell[0], a.cell[1], a.cell[2], a.item) < std::tie(b.cell[0], b.cell[1], b.cell[2], b.item);
+  });
+  constexpr std::size_t none = SIZE_MAX;
+  std::vector<std::size_t> vertex_made_by(total, none);  // point -> the vertex it made, if it made one
+  const double t2 = m_tolerance * m_tolerance;
+  for (std::size_t k = 0, g = 0; k < polylines.size(); ++k) {
     std::vector<std::size_t> ids;
     ids.reserve(polylines[k].size());
     for (const Point_3& p : polylines[k]) {
-      std::optional<std::size_t> v = find_vertex(p);
-      if (!v) {
-        v = m_points.size();
+      std::size_t best = none;
+      double best_d2 = t2;
+      visit_near(all, p, [&](std::size_t h) {
+        const std::size_t v = vertex_made_by[h];
+        if (h >= g || v == none) return;
+        const double d2 = CGAL::squared_distance(p, m_points[v]);
+        if (d2 < best_d2 || (d2 == best_d2 && (best == none || v < best))) best_d2 = d2, best = v;
+      });
+      if (best == none) {
+        best = vertex_made_by[g] = m_points.size();
         m_points.push_back(p);
-        m_incident.emplace_back();
-        m_cells[cell_of(p)].push_back(*v);
       }
-      ids.push_back(*v);
+      ids.push_back(best);
+      ++g;
     }
     m_polylines.push_back(std::move(ids));
   }
+  // The vertices' grid: the entries of the points that made them, in the same order.
+  for (const Cell_entry& e : all)
+    if (vertex_made_by[e.item] != none) m_cells.push_back({e.cell, vertex_made_by[e.item]});
+  m_cells.shrink_to_fit();
+  std::vector<Cell_entry>().swap(all);
+  std::vector<std::size_t>().swap(vertex_made_by);
 
-  // Unique segments.
-  std::map<std::pair<std::size_t, std::size_t>, std::size_t> segment_index;
+  // Unique segments, in order of first appearance.
   for (std::size_t k = 0; k < m_polylines.size(); ++k) {
     const auto& ids = m_polylines[k];
-    for (std::size_t i = 0; i + 1 < ids.size(); ++i) {
-      const std::size_t a = ids[i], b = ids[i + 1];
-      if (a == b)
+    for (std::size_t i = 0; i + 1 < ids.size(); ++i)
+      if (ids[i] == ids[i + 1])
         throw Invalid_input(location_of(where, k),
                             polyline_name(k) + ": points " + std::to_string(i + 1) + " and " +
                                 std::to_string(i + 2) + " coincide (a segment of zero length)");
-      const auto key = std::minmax(a, b);
-      if (!segment_index.emplace(key, m_segments.size()).second) {
+  }
+  std::vector<std::array<std::size_t, 3>> keyed;  // (lower end, upper end, position in input order)
+  for (const auto& ids : m_polylines)
+    for (std::size_t i = 0; i + 1 < ids.size(); ++i)
+      keyed.push_back({std::min(ids[i], ids[i + 1]), std::max(ids[i], ids[i + 1]), keyed.size()});
+  std::sort(keyed.begin(), keyed.end());
+  std::vector<bool> repeated(keyed.size(), false);
+  for (std::size_t i = 1; i < keyed.size(); ++i)
+    if (keyed[i][0] == keyed[i - 1][0] && keyed[i][1] == keyed[i - 1][1]) repeated[keyed[i][2]] = true;
+  std::vector<std::array<std::size_t, 3>>().swap(keyed);
+  m_incident.resize(m_points.size());
+  std::size_t position = 0;
+  for (const auto& ids : m_polylines)
+    for (std::size_t i = 0; i + 1 < ids.size(); ++i) {
+      if (repeated[position++]) {
         ++m_repeated_segments;
         continue;
       }
+      const std::size_t a = ids[i], b = ids[i + 1];
       m_incident[a].push_back(m_segments.size());
       m_incident[b].push_back(m_segments.size());
       m_segments.push_back({a, b});
     }
-  }
 
   // Components (union-find over segments), numbered by their lowest vertex.
   std::vector<std::size_t> parent(m_points.size());

@@ -2,8 +2,12 @@
 
 #include "test_helpers.h"
 
+#include <cmath>
+#include <random>
+
 using meshfit::Curve_network;
 using meshfit::Point_3;
+using meshfit::Vector_3;
 using namespace meshfit_test;
 
 TEST_CASE("curve network: coincident points across polylines are merged", "[curve_network]") {
@@ -100,4 +104,73 @@ TEST_CASE("curve network: the example network has its ten feature points", "[cur
   CHECK(back.number_of_vertices() == net.number_of_vertices());
   CHECK(back.number_of_segments() == net.number_of_segments());
   CHECK(back.feature_points().size() == 10);
+}
+
+TEST_CASE("curve network: merging agrees with a brute-force merge on clustered points", "[curve_network]") {
+  // Points in tight clusters (spread about the tolerance, some exactly at it), in random order
+  // across polylines. The oracle takes the points in input order and joins each to the nearest
+  // vertex made by an earlier point within the tolerance (distance <= tolerance; ties to the
+  // lowest vertex), else makes a vertex: the documented rule, checked pair by pair.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  std::vector<Point_3> centres;
+  for (int i = 0; i < 60; ++i) centres.emplace_back(10 * unit(rng), 10 * unit(rng), 10 * unit(rng));
+  // Keep the box fixed whatever the clusters are: its diagonal sets the tolerance.
+  const std::vector<Point_3> corners{{-11, -11, -11}, {11, 11, 11}};
+  const double tolerance = 1e-4 * std::sqrt(3 * 22.0 * 22.0);
+  std::uniform_int_distribution<std::size_t> pick(0, centres.size() - 1);
+  std::vector<Curve_network::Polyline> polylines{{corners[0], corners[1]}};
+  for (int line = 0; line < 40; ++line) {
+    Curve_network::Polyline pl;
+    for (int k = 0; k < 12; ++k) {
+      const Point_3& c = centres[pick(rng)];
+      const double r = tolerance * (k % 5 == 0 ? 1.0 : 0.7 * std::abs(unit(rng)) * 2);
+      Vector_3 d(unit(rng), unit(rng), unit(rng));
+      d = d / std::sqrt(d.squared_length());
+      Point_3 p = c + r * d;
+      if (k % 7 == 3) p = Point_3(c.x() + tolerance, c.y(), c.z());  // exactly at the tolerance from c
+      if (!pl.empty() && CGAL::squared_distance(pl.back(), p) <= 4 * tolerance * tolerance) continue;
+      pl.push_back(p);
+    }
+    if (pl.size() >= 2) polylines.push_back(pl);
+  }
+  std::vector<Point_3> vertices;
+  std::vector<std::size_t> expected;
+  const double t = 1e-4 * std::sqrt(CGAL::squared_distance(corners[0], corners[1]));
+  for (const auto& pl : polylines)
+    for (const Point_3& p : pl) {
+      std::size_t best = vertices.size();
+      double best_d2 = t * t;
+      for (std::size_t v = 0; v < vertices.size(); ++v) {
+        const double d2 = CGAL::squared_distance(p, vertices[v]);
+        if (d2 < best_d2 || (d2 == best_d2 && best == vertices.size())) best_d2 = d2, best = v;
+      }
+      if (best == vertices.size()) vertices.push_back(p);
+      expected.push_back(best);
+    }
+  std::vector<std::size_t> got;
+  try {
+    const Curve_network net(polylines, 1e-4);
+    for (const auto& ids : net.polylines()) got.insert(got.end(), ids.begin(), ids.end());
+    CHECK(net.number_of_vertices() == vertices.size());
+    CHECK(net.points() == vertices);
+    // find_vertex afterwards: every input point finds the vertex it was merged into, or one as near.
+    std::size_t i = 0;
+    for (const auto& pl : polylines)
+      for (const Point_3& p : pl) {
+        const auto v = net.find_vertex(p);
+        REQUIRE(v);
+        CHECK(CGAL::squared_distance(p, vertices[*v]) <= CGAL::squared_distance(p, vertices[expected[i++]]));
+      }
+  } catch (const meshfit::Invalid_input& e) {
+    // Two consecutive points merged into one vertex make a zero-length segment: the oracle agrees.
+    bool zero = false;
+    for (std::size_t i = 0, k = 0; k < polylines.size(); i += polylines[k].size(), ++k)
+      for (std::size_t j = 0; j + 1 < polylines[k].size(); ++j) zero = zero || expected[i + j] == expected[i + j + 1];
+    CHECK(zero);
+    return;
+  }
+  CHECK(got == expected);
+  CHECK(vertices.size() > 60);  // the clusters were not all merged into one vertex each
+  CHECK(vertices.size() < got.size());  // and some points were merged
 }

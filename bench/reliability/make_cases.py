@@ -10,6 +10,7 @@ Standard library only.
 """
 import math
 import os
+import shutil
 import sys
 
 
@@ -158,6 +159,9 @@ def main():
                     [(0, ring[0]), (1, ring[n // 4]), (2, ring[n // 2]), (3, ring[3 * n // 4]), (4, ring[n // 8])])
         d2 = os.path.join(out, 'big-wrong-count')
         os.makedirs(d2, exist_ok=True)
+        # The same template and pairs, so that the run reaches the curve file (and fails there).
+        for name in ('template.off', 'pairs.txt'):
+            shutil.copyfile(os.path.join(d, name), os.path.join(d2, name))
         with open(os.path.join(d, 'curves.polylines.txt')) as src, \
                 open(os.path.join(d2, 'curves.polylines.txt'), 'w') as dst:
             line = src.readline()

@@ -128,7 +128,14 @@ CHECK="grep -q 'memory' '$out/memory/dense70/fit-thesis-2G.stderr'"
 row "memory/dense70/estimate-named" "3" -- fit $(in_args "$cases/dense70") --fine-level thesis --max-memory 2G \
   --output "$out/dense70-2G.off" --quiet
 if [ "$big" = 1 ]; then
+  # Peak memory under ten times the curve file's size (DESIGN.md: no runaway memory), and the
+  # wrong count found in the curve file (its line named), not elsewhere.
+  within_tenfold() {  # ROW CASE
+    echo "test \$(awk 'END { print \$2 }' '$out/memory/$1.time') -lt \$((10 * \$(stat -c %s '$cases/$2/curves.polylines.txt') / 1024))"
+  }
+  CHECK="$(within_tenfold big-polyline/check big-polyline)"
   check "memory/big-polyline/check" "0|1" "$cases/big-polyline"
+  CHECK="$(within_tenfold big-wrong-count/check big-wrong-count) && grep -q 'curves.polylines.txt:1:' '$out/memory/big-wrong-count/check.stderr'"
   check "memory/big-wrong-count/check" 1 "$cases/big-wrong-count"
 fi
 

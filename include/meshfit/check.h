@@ -26,8 +26,8 @@ struct Mesh_summary {
 /// Computes the topology of `mesh`. \pre `mesh` passed the checks of read_mesh_data.
 Mesh_summary summarize_mesh(const Mesh_data& mesh);
 
-/// Smallest interior angle of the mesh's triangles, in degrees (floating point; a quality figure:
-/// 0 for a triangle with a zero-length edge).
+/// Smallest interior angle of the mesh's triangles, in degrees (floating point, a quality figure;
+/// 0 for a degenerate triangle; 180 for a mesh without triangles).
 double minimum_angle_degrees(const Mesh_data& mesh);
 
 /// What `meshfit check` reports.

@@ -110,10 +110,16 @@ class Curve_network {
   Bbox_3 m_bbox;
   double m_tolerance = 0;
   double m_relative_tolerance = 0;
-  // Vertices by grid cell of side `tolerance()`: a point's merge partners lie in the 27 cells
-  // around its own.
-  std::map<std::array<long long, 3>, std::vector<std::size_t>> m_cells;
+  // The vertices by grid cell of side twice `tolerance()`, sorted by cell then vertex: a point's
+  // merge partners lie in its own cell or the neighbours on its near side (find_vertex).
+  struct Cell_entry {
+    std::array<long long, 3> cell;
+    std::size_t item;
+  };
+  std::vector<Cell_entry> m_cells;
   std::array<long long, 3> cell_of(const Point_3& p) const;
+  template <typename Visit>
+  void visit_near(const std::vector<Cell_entry>& grid, const Point_3& p, const Visit& visit) const;
 };
 
 /// Reads a network in CGAL's polyline format: one polyline per line, `N x1 y1 z1 … xN yN zN`;

@@ -3,6 +3,7 @@
 #define MESHFIT_INTERNAL_ANGLE_FLIPS_H
 
 #include <meshfit/flip.h>
+#include <meshfit/internal/smallest_angle.h>
 #include <meshfit/internal/stage_support.h>
 #include <meshfit/kernel.h>
 
@@ -17,17 +18,6 @@
 
 namespace meshfit {
 namespace internal {
-
-/// The smallest angle (radians) of the triangle a b c; 0 when it is degenerate.
-inline double smallest_angle(const Point_3& a, const Point_3& b, const Point_3& c) {
-  const std::array<Point_3, 3> p{a, b, c};
-  double smallest = CGAL_PI;
-  for (int k = 0; k < 3; ++k) {
-    const Vector_3 e1 = p[(k + 1) % 3] - p[k], e2 = p[(k + 2) % 3] - p[k];
-    smallest = std::min(smallest, std::atan2(std::sqrt(CGAL::cross_product(e1, e2).squared_length()), e1 * e2));
-  }
-  return smallest;
-}
 
 /// Lawson's flips for the smallest angle on a surface: an interior edge u-v that is no curve edge
 /// (`constrained`) is flipped to x-y, the other diagonal of the quadrilateral v x u y of its two
