@@ -118,8 +118,6 @@ TEST_CASE("parameters: a chain of meshfit and CGAL parameters reads back with it
                      .laplacian_iterations(7)
                      .check_self_intersections(false)
                      .coarse_only(true)
-                     .merge_tolerance(1e-7)
-                     .input_file_name(std::string("t.off"))
                      .laplacian_weights(meshfit::Laplacian_weights::inverse_distance)
                      .laplacian_variant(meshfit::Laplacian_variant::alpha_original)
                      .laplacian_alpha(0.75)
@@ -139,7 +137,7 @@ TEST_CASE("parameters: a chain of meshfit and CGAL parameters reads back with it
   STATIC_REQUIRE(std::is_same_v<decltype(get_parameter(p, CGAL::internal_np::edge_is_constrained)), decltype(ecm)>);
   STATIC_REQUIRE(std::is_same_v<decltype(get_parameter(p, CGAL::internal_np::face_patch)), decltype(fpm)>);
   STATIC_REQUIRE(std::is_same_v<decltype(get_parameter(p, np::memory_limit)), std::size_t>);
-  STATIC_REQUIRE(std::is_same_v<decltype(get_parameter(p, np::input_file_name)), std::string>);
+  STATIC_REQUIRE(std::is_same_v<decltype(get_parameter(p, np::step_size)), double>);
   STATIC_REQUIRE(std::is_same_v<decltype(get_parameter(p, np::reference_points)), std::vector<meshfit::Point_3>>);
   // A parameter that is not in the chain is not found, so its default applies.
   STATIC_REQUIRE(std::is_same_v<decltype(get_parameter(p, CGAL::internal_np::face_index)),
@@ -157,8 +155,6 @@ TEST_CASE("parameters: a chain of meshfit and CGAL parameters reads back with it
   CHECK(get_parameter(p, np::laplacian_iterations) == 7);
   CHECK(get_parameter(p, np::check_self_intersections) == false);
   CHECK(get_parameter(p, np::coarse_only) == true);
-  CHECK(get_parameter(p, np::merge_tolerance) == 1e-7);
-  CHECK(get_parameter(p, np::input_file_name) == "t.off");
   CHECK(get_parameter(p, np::laplacian_weights) == meshfit::Laplacian_weights::inverse_distance);
   CHECK(get_parameter(p, np::laplacian_variant) == meshfit::Laplacian_variant::alpha_original);
   CHECK(get_parameter(p, np::laplacian_alpha) == 0.75);
@@ -177,21 +173,21 @@ TEST_CASE("parameters: a chain of meshfit and CGAL parameters reads back with it
 TEST_CASE("parameters: chains start from meshfit's empty pack, and the nesting form still works from a CGAL pack",
           "[parameters]") {
   // A chain that begins with a CGAL parameter.
-  const auto a = meshfit::parameters::default_values().number_of_iterations(4).merge_tolerance(1e-6);
+  const auto a = meshfit::parameters::default_values().number_of_iterations(4).step_size(0.5);
   CHECK(get_parameter(a, CGAL::internal_np::number_of_iterations) == 4);
-  CHECK(get_parameter(a, np::merge_tolerance) == 1e-6);
+  CHECK(get_parameter(a, np::step_size) == 0.5);
 
   // The two-argument form adds a meshfit parameter to a CGAL pack; the result chains on.
-  const auto b = meshfit::parameters::merge_tolerance(2e-7, CGAL::parameters::number_of_iterations(7)).rbf_kernel(
+  const auto b = meshfit::parameters::step_size(0.125, CGAL::parameters::number_of_iterations(7)).rbf_kernel(
       meshfit::Rbf_kernel::cubic);
-  CHECK(get_parameter(b, np::merge_tolerance) == 2e-7);
+  CHECK(get_parameter(b, np::step_size) == 0.125);
   CHECK(get_parameter(b, CGAL::internal_np::number_of_iterations) == 7);
   CHECK(get_parameter(b, np::rbf_kernel) == meshfit::Rbf_kernel::cubic);
 
   // ... and to a meshfit pack, nested the old way.
-  const auto c = meshfit::parameters::input_file_name(std::string("x.off"), b);
-  CHECK(get_parameter(c, np::input_file_name) == "x.off");
-  CHECK(get_parameter(c, np::merge_tolerance) == 2e-7);
+  const auto c = meshfit::parameters::laplacian_alpha(0.25, b);
+  CHECK(get_parameter(c, np::laplacian_alpha) == 0.25);
+  CHECK(get_parameter(c, np::step_size) == 0.125);
   CHECK(get_parameter(c, CGAL::internal_np::number_of_iterations) == 7);
   const auto d = meshfit::parameters::rbf_kernel(meshfit::Rbf_kernel::linear,
                                                  meshfit::parameters::progress(Void_counter{nullptr},
@@ -200,7 +196,7 @@ TEST_CASE("parameters: chains start from meshfit's empty pack, and the nesting f
   CHECK(get_parameter(d, CGAL::internal_np::number_of_iterations) == 5);
 
   // A parameter that is not there is reported as not found, so defaults apply.
-  using Missing = decltype(get_parameter(CGAL::parameters::number_of_iterations(1), np::merge_tolerance));
+  using Missing = decltype(get_parameter(CGAL::parameters::number_of_iterations(1), np::step_size));
   CHECK(std::is_same_v<Missing, CGAL::internal_np::Param_not_found>);
   CHECK(choose_parameter(get_parameter(a, np::rbf_kernel), meshfit::Rbf_kernel::linear) == meshfit::Rbf_kernel::linear);
 }

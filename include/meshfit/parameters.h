@@ -10,16 +10,14 @@
 /// meshfit::internal_np::rbf_kernel)` reads it back and CGAL's own functions accept it.
 /// `meshfit::parameters::default_values()` starts an empty pack (to begin a chain with a CGAL tag).
 /// Starting from a CGAL pack, the two-argument form adds a meshfit tag (and the result chains on):
-/// `meshfit::parameters::merge_tolerance(1e-8, CGAL::parameters::number_of_iterations(5))`.
+/// `meshfit::parameters::step_size(0.5, CGAL::parameters::number_of_iterations(5))`.
 ///
 /// The tags, their types and defaults (each function's "Optional named parameters" say which it
 /// reads):
 ///
 /// | tag | type | default | read by |
 /// |-----|------|---------|---------|
-/// | `merge_tolerance` | `double`, relative to the bbox diagonal | 1e-9 | no function yet (read_curve_network and check_inputs take it as an argument, default_merge_tolerance) |
 /// | `progress` | callable (`const Progress_step&`), returns `bool` (`false` cancels) or `void` | none (never cancels) | every stage |
-/// | `input_file_name` | `std::string`, used in error messages | the path read, or `"<stream>"` | no function yet (the stream readers take the name as an argument) |
 /// | `rbf_kernel` | meshfit::Rbf_kernel | `Rbf_kernel::linear` (φ(r) = r) | deform_coarse, deform_fine, deform_template, fit_template_to_curves |
 /// | `curve_density` | meshfit::Curve_density | `Curve_density::refine` | deform_fine, deform_template, fit_template_to_curves |
 /// | `coarse_only` | `bool`: deform_template stops after the coarse level | `false` | deform_template |
@@ -70,9 +68,7 @@ using Progress_callback = std::function<bool(const Progress_step&)>;
 /// values (`meshfit::internal_np::name_t`, `name`), the member functions of
 /// meshfit::Named_parameters and the functions of `meshfit::parameters`.
 #define MESHFIT_NAMED_PARAMETERS(X) \
-  X(merge_tolerance)                \
   X(progress)                       \
-  X(input_file_name)                \
   X(rbf_kernel)                     \
   X(curve_density)                  \
   X(coarse_only)                    \
