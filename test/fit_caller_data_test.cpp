@@ -235,6 +235,8 @@ TEST_CASE("fit: texture coordinates, colours and normals are carried to the adde
       meshfit::parameters::default_values().vertex_texture_map(uv).vertex_color_map(colour).vertex_normal_map(normal));
   CHECK(r.verification.passed());
   REQUIRE(tm.number_of_vertices() > nt);
+  CHECK(tm.is_valid(false));
+  CHECK(!tm.has_garbage());
 
   // Template vertices keep their values exactly.
   std::vector<bool> fixed(tm.number_of_vertices(), false);

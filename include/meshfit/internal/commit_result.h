@@ -147,7 +147,7 @@ Committed_elements<CGAL::Surface_mesh<Point>> commit_surface_mesh(const CGAL::Su
   // result's other edges and faces take them back (add_edge and add_face reset their property
   // values to the defaults) or are appended. Vertices are appended, never recycled: the
   // template's vertices come first in vertices(tm).
-  const bool recycle = tm.does_recycle_garbage();
+  const bool recycle = tm.does_recycle_garbage(), had_garbage = tm.has_garbage();
   for (E e : std::vector<E>(tm.edges().begin(), tm.edges().end()))
     if (!edge_kept[e]) tm.remove_edge(e);
   for (F f : std::vector<F>(tm.faces().begin(), tm.faces().end()))
@@ -163,9 +163,11 @@ Committed_elements<CGAL::Surface_mesh<Point>> commit_surface_mesh(const CGAL::Su
   tm.set_recycle_garbage(recycle);
 
   auto vertex_of = [&](V w) { return out.vertex_of[windex[w]]; };
+  // base[e] stands for halfedge(e) of `work`, the even one of edge e's pair (an Edge_index made
+  // from a halfedge keeps that halfedge: work.halfedge(work.edge(h)) is h itself).
   auto halfedge_of = [&](H h) {
-    const E e = work.edge(h);
-    return h == work.halfedge(e) ? base[e] : tm.opposite(base[e]);
+    const std::size_t e = std::size_t(h) / 2;
+    return std::size_t(h) % 2 == 0 ? base[e] : tm.opposite(base[e]);
   };
   for (H h : work.halfedges()) {
     const H th = halfedge_of(h);
@@ -182,6 +184,11 @@ Committed_elements<CGAL::Surface_mesh<Point>> commit_surface_mesh(const CGAL::Su
     tm.set_halfedge(face_of_work[f], halfedge_of(work.halfedge(f)));
     out.face_of.push_back(face_of_work[f]);
   }
+  // Every element removed above was taken back: the mesh has no garbage, as before (with none
+  // removed, collect_garbage moves nothing; it only clears the flag).
+  if (!had_garbage && tm.number_of_removed_vertices() == 0 && tm.number_of_removed_edges() == 0 &&
+      tm.number_of_removed_faces() == 0)
+    tm.collect_garbage();
   return out;
 }
 
