@@ -138,7 +138,7 @@ std::optional<std::size_t> expected_regions(const TriangleMesh& tm, const Curve_
 
 /// Whether a named parameter was given.
 template <typename T>
-constexpr bool is_given_v = !std::is_same_v<T, CGAL::internal_np::Param_not_found>;
+constexpr bool is_given_v = !std::is_same_v<std::decay_t<T>, CGAL::internal_np::Param_not_found>;
 template <typename T>
 constexpr bool is_given(const T&) {
   return is_given_v<T>;
