@@ -13,20 +13,25 @@
 #include <meshfit/flip.h>
 #include <meshfit/internal/angle_flips.h>
 #include <meshfit/internal/chain_spacing.h>
+#include <meshfit/internal/commit_result.h>
 #include <meshfit/io.h>
 #include <meshfit/internal/stage_support.h>
 #include <meshfit/internal/unit_scale.h>
+#include <meshfit/internal/vertex_attributes.h>
 #include <meshfit/parameters.h>
 #include <meshfit/partition.h>
 #include <meshfit/smooth.h>
 
+#include <CGAL/Polygon_mesh_processing/compute_normal.h>
 #include <CGAL/Polygon_mesh_processing/connected_components.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -141,6 +146,40 @@ std::optional<std::size_t> expected_regions(const TriangleMesh& tm, const Curve_
   return *cycles == 1 && border_is_curve ? planar_faces - 1 : planar_faces;
 }
 
+/// Whether a named parameter was given.
+template <typename T>
+constexpr bool is_given_v = !std::is_same_v<std::decay_t<T>, CGAL::internal_np::Param_not_found>;
+template <typename T>
+constexpr bool is_given(const T&) {
+  return is_given_v<T>;
+}
+
+/// The values of the vertex attribute `map` on the template's vertices, extended to the result's
+/// (adjacency) added vertices; empty when the map is not given.
+template <typename Channels, typename Map, typename VertexRange>
+std::vector<std::array<double, Channels::size>> extended_attribute(const Map& map, const VertexRange& template_vertices,
+                                                                   const Vertex_adjacency& adjacency) {
+  if constexpr (!is_given_v<Map>) {
+    return {};
+  } else {
+    std::vector<std::array<double, Channels::size>> fixed;
+    fixed.reserve(template_vertices.size());
+    for (auto v : template_vertices) fixed.push_back(Channels::read(get(map, v)));
+    return harmonic_extension(adjacency, fixed, Channels::name);
+  }
+}
+
+/// Puts `values[k]` on `vertex_of[k]` through `map` for the added vertices (k ≥ `template_count`).
+template <typename Channels, typename Map, typename VertexRange>
+void put_extended_attribute(const Map& map, const VertexRange& vertex_of, std::size_t template_count,
+                            const std::vector<std::array<double, Channels::size>>& values) {
+  if constexpr (is_given_v<Map>) {
+    using Value = typename boost::property_traits<Map>::value_type;
+    for (std::size_t k = template_count; k < values.size(); ++k)
+      put(map, vertex_of[k], Channels::template make<Value>(values[k]));
+  }
+}
+
 }  // namespace internal
 
 /// Fits `tm` (the template) to `network` through the user's `pairs` (template vertex index →
@@ -157,13 +196,49 @@ std::optional<std::size_t> expected_regions(const TriangleMesh& tm, const Curve_
 ///   4. verification (Fit_verification): network vertices are mesh vertices, segments are edge
 ///      chains, no flipped (folded) or degenerate face, no self-intersection the template did not
 ///      have (PMP::does_self_intersect), finite coordinates.
-/// The work is done on a copy: `tm` is replaced by the result only when every stage completed, so
-/// an exception (including a cancel from the `progress` callback, Algorithm_failure) leaves it as
-/// it was. Vertex i of the result is template vertex i (moved); vertices added by stage 1 follow.
-/// A failed verification does not throw: the report says what is wrong and the caller decides.
+/// The work is done on a copy: `tm` is changed only when every stage and the verification
+/// completed, so an exception (including a cancel from the `progress` callback, Algorithm_failure,
+/// Invalid_input for a non-finite attribute value) leaves `tm`, its property maps and their values
+/// as they were. Vertex i of the result is template vertex i (moved); vertices added by the stages
+/// follow. A failed verification does not throw: the report says what is wrong and the caller
+/// decides.
+///
+/// What the caller's mesh keeps (the result is written into `tm` in place, see
+/// internal/commit_result.h):
+///   - CGAL::Surface_mesh: every property map added to `tm` (of any type) stays, with its values
+///     on the template's vertices (template vertex i keeps its index, so its descriptor and its
+///     values stay valid). An edge of the result joining the same two template vertices as an edge
+///     of the template is that edge (same index, values kept, halfedges in the same directions);
+///     a face of the result with the same three template vertices in the same order is that face.
+///     Every other element (the added vertices, and edges and faces the stages made) gets each
+///     map's default value. Removed (garbage) elements of the template stay removed; the added
+///     vertices are appended after every index. Template edges and faces the result no longer has
+///     are reused for its new ones (their values reset to the defaults).
+///   - other meshes (CGAL::Polyhedron_3, …): the template's vertex descriptors (handles) stay
+///     valid and are result vertices 0 … n−1, so vertex property maps keyed by them (a
+///     boost::associative_property_map over a std::map/unordered_map, CGAL's dynamic vertex
+///     property maps of the mesh) keep their values; every face, edge and halfedge is removed and
+///     made anew, so their old descriptors are invalid and maps keyed by them are stale. (With
+///     CGAL::Polyhedron_items_with_id_3, the added vertices' and the new faces' and halfedges' ids
+///     are not set: call CGAL::set_halfedgeds_items_id(tm) after.)
+/// Vertex attributes carried to the added vertices (CGAL's IO named parameters; each a read-write
+/// property map on the vertices of `tm`, read on the template's vertices after the stages and
+/// written on the added vertices only, after `tm` holds the result, so a map keyed by descriptors
+/// gets the descriptors of the result's vertices):
+///   `vertex_texture_map` (values with x(), y() and a two-coordinate constructor: Point_2,
+///   Vector_2), `vertex_color_map` (CGAL::IO::Color, all four channels), `vertex_normal_map`
+///   (values with x(), y(), z() and a three-coordinate constructor: Vector_3).
+///   The template's vertices keep their values; each added vertex gets the discrete harmonic
+///   extension of the template's values over the result's edges (the mean of its neighbours', as
+///   displacement.h at order 1 with the template's vertices fixed), so it lies in the convex hull
+///   of its neighbours' values. Normals are extended likewise and normalised (they stay consistent
+///   with the template's normals, which keep the caller's values even where the surface moved;
+///   call PMP::compute_vertex_normals after for geometric ones); where the extension cancels out,
+///   the result's geometric normal is taken.
 /// \tparam TriangleMesh a model of `MutableFaceGraph` (tested: CGAL::Surface_mesh, CGAL::Polyhedron_3)
 /// \tparam NamedParameters a sequence of named parameters (CGAL's or meshfit's)
-/// \param tm the template, replaced by the result when every stage completed
+/// \param tm the template; the result is written into it (in place, as above) when every stage
+///        and the verification completed
 /// \param input_network the curve network
 /// \param pairs the user's pairs: template vertex i (the i-th of `vertices(tm)`) → network vertex
 /// \param np an optional sequence of named parameters among the ones listed below
@@ -191,6 +266,26 @@ std::optional<std::size_t> expected_regions(const TriangleMesh& tm, const Curve_
 ///       `boost::graph_traits<TriangleMesh>::%face_descriptor` as key type and an integer type as
 ///       value type}
 ///     \cgalParamDefault{none: the regions are not written}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{vertex_texture_map}
+///     \cgalParamDescription{texture coordinates, carried to the added vertices (above)}
+///     \cgalParamType{a class model of `ReadWritePropertyMap` with
+///       `boost::graph_traits<TriangleMesh>::%vertex_descriptor` as key type and a value type with
+///       x(), y() and a two-coordinate constructor (Point_2, Vector_2)}
+///     \cgalParamDefault{none: no texture coordinates are carried}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{vertex_normal_map}
+///     \cgalParamDescription{vertex normals, carried to the added vertices and normalised (above)}
+///     \cgalParamType{a class model of `ReadWritePropertyMap` with
+///       `boost::graph_traits<TriangleMesh>::%vertex_descriptor` as key type and a value type with
+///       x(), y(), z() and a three-coordinate constructor (Vector_3)}
+///     \cgalParamDefault{none: no normals are carried}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{vertex_color_map}
+///     \cgalParamDescription{vertex colours, carried to the added vertices (above)}
+///     \cgalParamType{a class model of `ReadWritePropertyMap` with
+///       `boost::graph_traits<TriangleMesh>::%vertex_descriptor` as key type and `CGAL::IO::Color` as value type}
+///     \cgalParamDefault{none: no colours are carried}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{fine_level}
 ///     \cgalParamDescription{stage 1's fine level}
@@ -262,8 +357,9 @@ std::optional<std::size_t> expected_regions(const TriangleMesh& tm, const Curve_
 /// \cgalNamedParamsEnd
 ///
 /// \throws Invalid_input for pairs out of range or that define no interpolant, a template
-///         coordinate outside the supported range, or a negative count among the named
-///         parameters (before any work).
+///         coordinate outside the supported range, a negative count among the named
+///         parameters (before any work), or a template vertex's attribute (texture coordinate,
+///         normal, colour) that is not finite.
 /// \throws Algorithm_failure when the pairs mirror the template, when some network vertex could
 ///         not be given a mesh vertex (Curve_density::drop), or when cancelled.
 /// \throws Numerical_error when a solve of stage 1 fails.
@@ -400,7 +496,8 @@ Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& input_n
   report.vertices = num_vertices(work);
   report.faces = num_faces(work);
 
-  // Commit: the result replaces the template, vertex i staying vertex i.
+  // Commit: the result replaces the template in place, vertex i staying vertex i
+  // (internal/commit_result.h).
   Mesh_data result = to_mesh_data(work, CGAL::parameters::edge_is_constrained_map(curve).face_patch_map(region));
   report.minimum_angle_deg = minimum_angle_degrees(result);
   for (Point_3& p : result.points) p = internal::scaled(p, 1 / unit);
@@ -408,17 +505,48 @@ Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& input_n
   report.smoothing.mean_displacement /= unit;
   report.smoothing.max_displacement /= unit;
   report.smoothing.last_step_max_displacement /= unit;
-  auto ecm = get_parameter(np, CGAL::internal_np::edge_is_constrained);
-  auto fpm = get_parameter(np, CGAL::internal_np::face_patch);
-  if constexpr (!std::is_same_v<decltype(ecm), CGAL::internal_np::Param_not_found> &&
-                !std::is_same_v<decltype(fpm), CGAL::internal_np::Param_not_found>)
-    build_triangle_mesh(result, tm, CGAL::parameters::vertex_point_map(vpm).edge_is_constrained_map(ecm).face_patch_map(fpm));
-  else if constexpr (!std::is_same_v<decltype(ecm), CGAL::internal_np::Param_not_found>)
-    build_triangle_mesh(result, tm, CGAL::parameters::vertex_point_map(vpm).edge_is_constrained_map(ecm));
-  else if constexpr (!std::is_same_v<decltype(fpm), CGAL::internal_np::Param_not_found>)
-    build_triangle_mesh(result, tm, CGAL::parameters::vertex_point_map(vpm).face_patch_map(fpm));
+
+  // The added vertices' attributes, computed before `tm` changes (a solve that throws leaves it
+  // as it was); see internal/vertex_attributes.h.
+  const auto texture_map = get_parameter(np, CGAL::internal_np::vertex_texture_map);
+  const auto normal_map = get_parameter(np, CGAL::internal_np::vertex_normal_map);
+  const auto color_map = get_parameter(np, CGAL::internal_np::vertex_color_map);
+  const std::vector<typename GT::vertex_descriptor> template_vertices(vertices(tm).begin(), vertices(tm).end());
+  const std::size_t nt = template_vertices.size();
+  const Vertex_adjacency adjacency = internal::is_given(texture_map) || internal::is_given(normal_map) ||
+                                             internal::is_given(color_map)
+                                         ? internal::adjacency_of(result)
+                                         : Vertex_adjacency();
+  const auto uvs = internal::extended_attribute<internal::Texture_channels>(texture_map, template_vertices, adjacency);
+  auto normals = internal::extended_attribute<internal::Normal_channels>(normal_map, template_vertices, adjacency);
+  const auto colors = internal::extended_attribute<internal::Color_channels>(color_map, template_vertices, adjacency);
+  // Normalised; a normal that the mean cancels out is taken from the result's geometry below.
+  std::vector<bool> geometric_normal(normals.size(), false);
+  for (std::size_t k = nt; k < normals.size(); ++k) {
+    const double len = std::sqrt(normals[k][0] * normals[k][0] + normals[k][1] * normals[k][1] + normals[k][2] * normals[k][2]);
+    if (len > 1e-9)
+      for (double& c : normals[k]) c /= len;
+    else
+      geometric_normal[k] = true;
+  }
+
+  internal::Committed_elements<TriangleMesh> committed;
+  if constexpr (internal::Is_surface_mesh<TriangleMesh>::value)
+    committed = internal::commit_surface_mesh(work, result.points, tm, vpm);
   else
-    build_triangle_mesh(result, tm, CGAL::parameters::vertex_point_map(vpm));
+    committed = internal::commit_face_graph(result.points, result.triangles, tm, vpm);
+  internal::put_patches_and_curves(result, tm, committed.vertex_of, committed.face_of, np);
+  internal::put_extended_attribute<internal::Texture_channels>(texture_map, committed.vertex_of, nt, uvs);
+  internal::put_extended_attribute<internal::Color_channels>(color_map, committed.vertex_of, nt, colors);
+  if constexpr (internal::is_given_v<decltype(normal_map)>) {
+    for (std::size_t k = nt; k < normals.size(); ++k)
+      if (geometric_normal[k]) {
+        const auto n = CGAL::Polygon_mesh_processing::compute_vertex_normal(committed.vertex_of[k], tm,
+                                                                            CGAL::parameters::vertex_point_map(vpm));
+        normals[k] = {double(n.x()), double(n.y()), double(n.z())};
+      }
+    internal::put_extended_attribute<internal::Normal_channels>(normal_map, committed.vertex_of, nt, normals);
+  }
   report.total_seconds = internal::seconds_since(t0);
   return report;
 }

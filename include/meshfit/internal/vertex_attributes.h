@@ -1,0 +1,128 @@
+// meshfit internal: vertex attributes (texture coordinates, normals, colours) carried from the
+// template's vertices to the vertices the pipeline adds.
+//
+// The template's vertices keep their values. The added vertices get the discrete harmonic
+// extension of the template's values over the result's edge graph (displacement.h at order 1:
+// each added vertex's value is the mean of its neighbours', with the template's vertices fixed),
+// channel by channel. The uniform weights are positive on every mesh, so each added value is a
+// convex combination of template values and lies in the convex hull of its neighbours' values (a
+// discrete maximum principle): UVs stay inside the template's UV range, colours inside [0, 255].
+// Normals are interpolated the same way and normalised: a template vertex keeps the caller's
+// normal (which may be authored, with creases), and an added vertex between two template
+// vertices gets a normal between theirs, consistent with them; where the mean cancels out (less
+// than 1e-9 long) the result's geometric normal is taken.
+#ifndef MESHFIT_INTERNAL_VERTEX_ATTRIBUTES_H
+#define MESHFIT_INTERNAL_VERTEX_ATTRIBUTES_H
+
+#include <meshfit/displacement.h>
+#include <meshfit/exceptions.h>
+#include <meshfit/io.h>
+
+#include <CGAL/IO/Color.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace meshfit {
+namespace internal {
+
+/// The neighbours of every vertex of `mesh` (by the edges of its triangles).
+inline Vertex_adjacency adjacency_of(const Mesh_data& mesh) {
+  std::vector<std::vector<std::size_t>> around(mesh.points.size());
+  for (const auto& t : mesh.triangles)
+    for (int k = 0; k < 3; ++k) {
+      around[t[k]].push_back(t[(k + 1) % 3]);
+      around[t[k]].push_back(t[(k + 2) % 3]);
+    }
+  Vertex_adjacency a;
+  for (auto& n : around) {
+    std::sort(n.begin(), n.end());
+    n.erase(std::unique(n.begin(), n.end()), n.end());
+    a.neighbours.insert(a.neighbours.end(), n.begin(), n.end());
+    a.offsets.push_back(a.neighbours.size());
+  }
+  return a;
+}
+
+/// Values of N channels on the first `fixed.size()` vertices, extended harmonically to the
+/// others (see the top of this file). `what` names the attribute in error messages.
+/// \throws Invalid_input when a template value is not finite.
+template <std::size_t N>
+std::vector<std::array<double, N>> harmonic_extension(const Vertex_adjacency& adjacency,
+                                                      const std::vector<std::array<double, N>>& fixed,
+                                                      const char* what) {
+  const std::size_t n = adjacency.size();
+  for (std::size_t i = 0; i < fixed.size(); ++i)
+    for (double c : fixed[i])
+      if (!std::isfinite(c))
+        throw Invalid_input(std::string("fit: the ") + what + " of template vertex " + std::to_string(i) +
+                            " is not finite");
+  std::vector<std::array<double, N>> out(n);
+  std::copy(fixed.begin(), fixed.end(), out.begin());
+  if (n == fixed.size()) return out;
+  std::vector<bool> constrained(n, false);
+  std::fill(constrained.begin(), constrained.begin() + fixed.size(), true);
+  // interpolate_displacements solves for three channels at a time.
+  for (std::size_t c0 = 0; c0 < N; c0 += 3) {
+    auto channel = [&](const std::array<double, N>& a, std::size_t c) { return c0 + c < N ? a[c0 + c] : 0.0; };
+    std::vector<Vector_3> given(n, Vector_3(0, 0, 0));
+    for (std::size_t i = 0; i < fixed.size(); ++i)
+      given[i] = Vector_3(channel(fixed[i], 0), channel(fixed[i], 1), channel(fixed[i], 2));
+    const std::vector<Vector_3> d = interpolate_displacements(adjacency, constrained, given, 1);
+    for (std::size_t i = fixed.size(); i < n; ++i)
+      for (std::size_t c = 0; c < 3 && c0 + c < N; ++c) out[i][c0 + c] = d[i][int(c)];
+  }
+  return out;
+}
+
+/// Texture coordinates: any value with `x()`, `y()` and a constructor from two coordinates
+/// (CGAL's Point_2 and Vector_2).
+struct Texture_channels {
+  static constexpr std::size_t size = 2;
+  static constexpr const char* name = "texture coordinate";
+  template <typename T>
+  static std::array<double, 2> read(const T& t) {
+    return {double(t.x()), double(t.y())};
+  }
+  template <typename T>
+  static T make(const std::array<double, 2>& c) {
+    return T(c[0], c[1]);
+  }
+};
+
+/// Normals: any value with `x()`, `y()`, `z()` and a constructor from three coordinates.
+struct Normal_channels {
+  static constexpr std::size_t size = 3;
+  static constexpr const char* name = "normal";
+  template <typename T>
+  static std::array<double, 3> read(const T& t) {
+    return {double(t.x()), double(t.y()), double(t.z())};
+  }
+  template <typename T>
+  static T make(const std::array<double, 3>& c) {
+    return T(c[0], c[1], c[2]);
+  }
+};
+
+/// Colours: CGAL::IO::Color (red, green, blue, alpha), rounded to the nearest integer.
+struct Color_channels {
+  static constexpr std::size_t size = 4;
+  static constexpr const char* name = "colour";
+  static std::array<double, 4> read(const CGAL::IO::Color& c) {
+    return {double(c.r()), double(c.g()), double(c.b()), double(c.a())};
+  }
+  template <typename T>
+  static T make(const std::array<double, 4>& c) {
+    auto byte = [](double x) { return static_cast<unsigned char>(std::clamp(std::lround(x), 0L, 255L)); };
+    return T(byte(c[0]), byte(c[1]), byte(c[2]), byte(c[3]));
+  }
+};
+
+}  // namespace internal
+}  // namespace meshfit
+
+#endif  // MESHFIT_INTERNAL_VERTEX_ATTRIBUTES_H

@@ -1,0 +1,405 @@
+// fit_template_to_curves and the caller's data: property maps kept on Surface_mesh, vertex
+// handles kept on Polyhedron_3, vertex attributes carried to the added vertices, and nothing
+// changed when a stage is cancelled or fails. The oracles are the test's own (the maps' values
+// recorded before the call, the result's connectivity read back from the mesh), not fit's
+// verification.
+#include <meshfit/fit.h>
+#include <meshfit/io.h>
+
+#include <CGAL/Polyhedron_3.h>
+#include <CGAL/Surface_mesh.h>
+#include <CGAL/boost/graph/graph_traits_Polyhedron_3.h>
+#include <CGAL/boost/graph/properties_Polyhedron_3.h>
+
+#include <boost/property_map/property_map.hpp>
+
+#include "test_helpers.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <set>
+#include <string>
+
+using Mesh = CGAL::Surface_mesh<meshfit::Point_3>;
+using Poly = CGAL::Polyhedron_3<meshfit::Kernel>;
+using V = Mesh::Vertex_index;
+using Point_2 = meshfit::Kernel::Point_2;
+
+namespace {
+
+struct Network_and_pairs {
+  meshfit::Curve_network network;
+  std::vector<meshfit::Correspondence> pairs;
+};
+
+template <typename TriangleMesh>
+Network_and_pairs example(TriangleMesh& tm) {
+  const std::string d = MESHFIT_EXAMPLE_DATA_DIR;
+  meshfit::read_triangle_mesh(d + "/template.off", tm);
+  Network_and_pairs in;
+  in.network = meshfit::read_curve_network(d + "/curves.polylines.txt");
+  in.pairs = meshfit::read_correspondences(d + "/pairs.txt", in.network);
+  return in;
+}
+
+/// The pairs of `in` mirrored in x, with the network: they mirror the template (Algorithm_failure).
+Network_and_pairs mirrored(const Network_and_pairs& in) {
+  std::vector<meshfit::Curve_network::Polyline> lines;
+  for (const auto& pl : in.network.polylines()) {
+    meshfit::Curve_network::Polyline m;
+    for (std::size_t v : pl) m.emplace_back(-in.network.point(v).x(), in.network.point(v).y(), in.network.point(v).z());
+    lines.push_back(m);
+  }
+  Network_and_pairs out{meshfit::Curve_network(lines), in.pairs};
+  for (auto& c : out.pairs) {
+    const meshfit::Point_3& p = in.network.point(c.network_vertex);
+    c.network_vertex = *out.network.find_vertex(meshfit::Point_3(-p.x(), p.y(), p.z()));
+  }
+  return out;
+}
+
+std::pair<std::size_t, std::size_t> ordered(std::size_t a, std::size_t b) { return {std::min(a, b), std::max(a, b)}; }
+
+std::array<std::size_t, 3> rotated(std::array<std::size_t, 3> t) {
+  while (t[0] > t[1] || t[0] > t[2]) t = {t[1], t[2], t[0]};
+  return t;
+}
+
+/// The value at each vertex that is not `fixed` minus the mean of its neighbours' (the harmonic
+/// extension makes it zero), largest over the mesh; neighbours read from the mesh itself.
+template <typename TriangleMesh, typename Get>
+double largest_harmonic_residual(const TriangleMesh& tm, const std::vector<bool>& fixed, const Get& value) {
+  double worst = 0;
+  std::size_t k = 0;
+  for (auto v : vertices(tm)) {
+    if (fixed[k++]) continue;
+    std::array<double, 2> mean{0, 0};
+    std::size_t n = 0;
+    for (auto w : CGAL::vertices_around_target(v, tm)) {
+      const auto a = value(w);
+      mean[0] += a[0];
+      mean[1] += a[1];
+      ++n;
+    }
+    const auto a = value(v);
+    worst = std::max({worst, std::abs(a[0] - mean[0] / n), std::abs(a[1] - mean[1] / n)});
+  }
+  return worst;
+}
+
+}  // namespace
+
+TEST_CASE("fit: a Surface_mesh keeps every property map, with its values on the template's vertices, edges and faces",
+          "[fit][caller_data]") {
+  Mesh tm;
+  const Network_and_pairs in = example(tm);
+  const std::size_t nt = tm.number_of_vertices();
+  // A removed vertex after the template's: it stays removed, the added vertices come after it.
+  tm.remove_vertex(tm.add_vertex(meshfit::Point_3(9, 9, 9)));
+  REQUIRE(tm.has_garbage());
+  auto uv = tm.add_property_map<V, Point_2>("v:uv", Point_2(-7, -7)).first;
+  auto name = tm.add_property_map<V, std::string>("v:name", "new").first;
+  auto ftag = tm.add_property_map<Mesh::Face_index, int>("f:tag", -1).first;
+  auto etag = tm.add_property_map<Mesh::Edge_index, int>("e:tag", -1).first;
+  auto htag = tm.add_property_map<Mesh::Halfedge_index, int>("h:tag", -1).first;
+  for (V v : tm.vertices()) {
+    uv[v] = Point_2(tm.point(v).x(), tm.point(v).y());
+    name[v] = "v" + std::to_string(std::size_t(v));
+  }
+  std::map<std::array<std::size_t, 3>, int> face_tag;
+  for (auto f : tm.faces()) {
+    ftag[f] = int(f) + 100;
+    const auto h = tm.halfedge(f);
+    face_tag[rotated({tm.source(h), tm.target(h), tm.target(tm.next(h))})] = ftag[f];
+  }
+  std::map<std::pair<std::size_t, std::size_t>, int> halfedge_tag, edge_tag;
+  for (auto h : tm.halfedges()) {
+    htag[h] = int(h) + 1000;
+    halfedge_tag[{tm.source(h), tm.target(h)}] = htag[h];
+  }
+  for (auto e : tm.edges()) {
+    etag[e] = int(e) + 7;
+    const auto h = tm.halfedge(e);
+    edge_tag[ordered(tm.source(h), tm.target(h))] = etag[e];
+  }
+  std::vector<Point_2> uv_before;
+  for (V v : tm.vertices()) uv_before.push_back(uv[v]);
+
+  auto curve = tm.add_property_map<Mesh::Edge_index, bool>("e:curve", false).first;
+  auto region = tm.add_property_map<Mesh::Face_index, int>("f:region", -1).first;
+  const meshfit::Fit_report r = meshfit::fit_template_to_curves(
+      tm, in.network, in.pairs, meshfit::parameters::default_values().edge_is_constrained_map(curve).face_patch_map(region));
+  CHECK(r.verification.passed());
+  REQUIRE(tm.is_valid(false));
+  CHECK(tm.number_of_vertices() == r.vertices);
+  CHECK(tm.number_of_faces() == r.faces);
+  REQUIRE(r.vertices > nt);
+
+  // The maps are the same objects, still in the mesh.
+  CHECK(tm.property_map<V, Point_2>("v:uv").second);
+  CHECK(tm.property_map<Mesh::Face_index, int>("f:tag").second);
+  // Template vertex i is vertex i, with its values; the removed vertex stays removed; the added
+  // vertices come after it, with the defaults.
+  for (std::size_t i = 0; i < nt; ++i) {
+    CHECK(uv[V(Mesh::size_type(i))] == uv_before[i]);
+    CHECK(name[V(Mesh::size_type(i))] == "v" + std::to_string(i));
+  }
+  CHECK(tm.is_removed(V(Mesh::size_type(nt))));
+  std::size_t k = 0, added = 0;
+  for (V v : tm.vertices()) {
+    if (k++ < nt) {
+      CHECK(std::size_t(v) == k - 1);
+      continue;
+    }
+    CHECK(std::size_t(v) > nt);
+    CHECK(uv[v] == Point_2(-7, -7));
+    CHECK(name[v] == "new");
+    ++added;
+  }
+  CHECK(added == r.vertices - nt);
+  for (const auto& c : in.pairs)
+    CHECK(tm.point(V(Mesh::size_type(c.template_vertex))) == in.network.point(c.network_vertex));
+
+  // A face (edge, halfedge) of the result on the same template vertices keeps its value; the others
+  // have the default. Both kinds occur.
+  std::size_t kept_faces = 0, new_faces = 0, kept_edges = 0, new_edges = 0, kept_halfedges = 0;
+  for (auto f : tm.faces()) {
+    const auto h = tm.halfedge(f);
+    const auto it = face_tag.find(rotated({tm.source(h), tm.target(h), tm.target(tm.next(h))}));
+    if (it != face_tag.end() && std::size_t(tm.source(h)) < nt && std::size_t(tm.target(h)) < nt &&
+        std::size_t(tm.target(tm.next(h))) < nt) {
+      CHECK(ftag[f] == it->second);
+      ++kept_faces;
+    } else {
+      CHECK(ftag[f] == -1);
+      ++new_faces;
+    }
+  }
+  for (auto e : tm.edges()) {
+    const auto h = tm.halfedge(e);
+    const auto it = edge_tag.find(ordered(tm.source(h), tm.target(h)));
+    if (it != edge_tag.end() && std::size_t(tm.source(h)) < nt && std::size_t(tm.target(h)) < nt) {
+      CHECK(etag[e] == it->second);
+      ++kept_edges;
+      for (auto g : {h, tm.opposite(h)}) {
+        CHECK(htag[g] == halfedge_tag.at({tm.source(g), tm.target(g)}));
+        ++kept_halfedges;
+      }
+    } else {
+      CHECK(etag[e] == -1);
+      CHECK(htag[h] == -1);
+      CHECK(htag[tm.opposite(h)] == -1);
+      ++new_edges;
+    }
+  }
+  INFO("faces kept " << kept_faces << ", new " << new_faces << "; edges kept " << kept_edges << ", new " << new_edges);
+  CHECK(kept_faces > 1000);
+  CHECK(new_faces > 0);
+  CHECK(kept_edges > 1000);
+  CHECK(new_edges > 0);
+  // The output maps were filled on the result.
+  std::set<int> labels;
+  for (auto f : tm.faces()) labels.insert(region[f]);
+  CHECK(labels.size() == r.partition.regions);
+}
+
+TEST_CASE("fit: texture coordinates, colours and normals are carried to the added vertices (Surface_mesh)",
+          "[fit][caller_data]") {
+  Mesh tm;
+  const Network_and_pairs in = example(tm);
+  const std::size_t nt = tm.number_of_vertices();
+  // UVs and colours affine in the template's position, normals the sphere's.
+  auto uv = tm.add_property_map<V, Point_2>("v:uv").first;
+  auto colour = tm.add_property_map<V, CGAL::IO::Color>("v:colour").first;
+  auto normal = tm.add_property_map<V, meshfit::Vector_3>("v:normal").first;
+  auto byte = [](double c) { return static_cast<unsigned char>(std::lround(127.5 + 127 * c)); };
+  for (V v : tm.vertices()) {
+    const meshfit::Point_3& p = tm.point(v);
+    uv[v] = Point_2(p.x(), p.y());
+    colour[v] = CGAL::IO::Color(byte(p.x()), byte(p.y()), byte(p.z()), 200);
+    const meshfit::Vector_3 n = p - CGAL::ORIGIN;
+    normal[v] = n / std::sqrt(n.squared_length());
+  }
+  std::vector<Point_2> uv_before;
+  std::vector<CGAL::IO::Color> colour_before;
+  std::vector<meshfit::Vector_3> normal_before;
+  for (V v : tm.vertices()) {
+    uv_before.push_back(uv[v]);
+    colour_before.push_back(colour[v]);
+    normal_before.push_back(normal[v]);
+  }
+  const meshfit::Fit_report r = meshfit::fit_template_to_curves(
+      tm, in.network, in.pairs,
+      meshfit::parameters::default_values().vertex_texture_map(uv).vertex_color_map(colour).vertex_normal_map(normal));
+  CHECK(r.verification.passed());
+  REQUIRE(tm.number_of_vertices() > nt);
+  CHECK(tm.is_valid(false));
+  CHECK(!tm.has_garbage());
+
+  // Template vertices keep their values exactly.
+  std::vector<bool> fixed(tm.number_of_vertices(), false);
+  for (std::size_t i = 0; i < nt; ++i) {
+    const V v(static_cast<Mesh::size_type>(i));
+    fixed[i] = true;
+    CHECK(uv[v] == uv_before[i]);
+    CHECK(colour[v] == colour_before[i]);
+    CHECK(normal[v] == normal_before[i]);
+  }
+  // Added vertices: each UV is the mean of its neighbours' on the result (so inside their convex
+  // hull) and inside the template's UV range; colours inside their neighbours' range (up to the
+  // rounding); normals of unit length, on the side of their neighbours' normals.
+  const double residual =
+      largest_harmonic_residual(tm, fixed, [&](V v) { return std::array<double, 2>{uv[v].x(), uv[v].y()}; });
+  CHECK(residual < 1e-9);
+  for (V v : tm.vertices()) {
+    if (std::size_t(v) < nt) continue;
+    INFO("added vertex " << std::size_t(v));
+    CHECK(std::isfinite(uv[v].x()));
+    CHECK(std::isfinite(uv[v].y()));
+    CHECK(uv[v].x() * uv[v].x() + uv[v].y() * uv[v].y() <= 1 + 1e-9);  // the template is the unit sphere
+    std::array<int, 4> lo{255, 255, 255, 255}, hi{0, 0, 0, 0};
+    meshfit::Vector_3 mean(0, 0, 0);
+    for (V w : CGAL::vertices_around_target(v, tm)) {
+      for (int c = 0; c < 4; ++c) {
+        lo[c] = std::min(lo[c], int(colour[w][std::size_t(c)]));
+        hi[c] = std::max(hi[c], int(colour[w][std::size_t(c)]));
+      }
+      mean = mean + normal[w];
+    }
+    for (int c = 0; c < 4; ++c) {
+      CHECK(int(colour[v][std::size_t(c)]) >= lo[c] - 1);
+      CHECK(int(colour[v][std::size_t(c)]) <= hi[c] + 1);
+    }
+    CHECK(int(colour[v].a()) == 200);
+    CHECK(std::abs(normal[v].squared_length() - 1) < 1e-12);
+    CHECK(normal[v] * mean > 0);
+  }
+}
+
+TEST_CASE("fit: a Polyhedron keeps its vertex handles; a map keyed by them gets the added vertices' UVs",
+          "[fit][caller_data][generic]") {
+  using vertex_descriptor = boost::graph_traits<Poly>::vertex_descriptor;
+  Poly tm;
+  const Network_and_pairs in = example(tm);
+  const std::vector<vertex_descriptor> template_vertices(vertices(tm).begin(), vertices(tm).end());
+  const std::size_t nt = template_vertices.size();
+  std::map<vertex_descriptor, Point_2> uv_store;
+  boost::associative_property_map<std::map<vertex_descriptor, Point_2>> uv(uv_store);
+  auto tag = get(CGAL::dynamic_vertex_property_t<int>(), tm);
+  for (std::size_t i = 0; i < nt; ++i) {
+    const auto& p = template_vertices[i]->point();
+    uv_store[template_vertices[i]] = Point_2(p.x(), p.y());
+    put(tag, template_vertices[i], int(i));
+  }
+  const auto uv_before = uv_store;
+
+  const meshfit::Fit_report r = meshfit::fit_template_to_curves(
+      tm, in.network, in.pairs, meshfit::parameters::default_values().vertex_texture_map(uv));
+  CHECK(r.verification.passed());
+  REQUIRE(tm.is_valid());
+  CHECK(CGAL::is_triangle_mesh(tm));
+  CHECK(num_vertices(tm) == r.vertices);
+  CHECK(num_faces(tm) == r.faces);
+  REQUIRE(r.vertices > nt);
+  const std::vector<vertex_descriptor> after(vertices(tm).begin(), vertices(tm).end());
+  // The template's handles are the first vertices, in order, with their values.
+  CHECK(std::equal(template_vertices.begin(), template_vertices.end(), after.begin()));
+  for (std::size_t i = 0; i < nt; ++i) {
+    CHECK(get(tag, after[i]) == int(i));
+    CHECK(uv_store.at(after[i]) == uv_before.at(after[i]));
+  }
+  for (const auto& c : in.pairs) CHECK(after[c.template_vertex]->point() == in.network.point(c.network_vertex));
+  // Every added vertex got a UV: the mean of its neighbours'.
+  CHECK(uv_store.size() == r.vertices);
+  std::vector<bool> fixed(after.size(), false);
+  std::fill(fixed.begin(), fixed.begin() + nt, true);
+  const double residual = largest_harmonic_residual(tm, fixed, [&](vertex_descriptor v) {
+    const Point_2& p = uv_store.at(v);
+    return std::array<double, 2>{p.x(), p.y()};
+  });
+  CHECK(residual < 1e-9);
+}
+
+TEST_CASE("fit: a cancelled or failed fit leaves the mesh, its property maps and their values as they were",
+          "[fit][caller_data][generic]") {
+  // Surface_mesh with a v:uv map (also passed as vertex_texture_map) and a face map.
+  auto fit_surface_mesh = [](const std::string& stop_at, bool mirror) {
+    INFO("Surface_mesh, " << (mirror ? std::string("mirrored pairs") : "cancelled in " + stop_at));
+    Mesh tm;
+    const Network_and_pairs in0 = example(tm);
+    const Network_and_pairs in = mirror ? mirrored(in0) : in0;
+    auto uv = tm.add_property_map<V, Point_2>("v:uv", Point_2(-7, -7)).first;
+    auto ftag = tm.add_property_map<Mesh::Face_index, int>("f:tag", -1).first;
+    for (V v : tm.vertices()) uv[v] = Point_2(tm.point(v).x(), -tm.point(v).z());
+    for (auto f : tm.faces()) ftag[f] = int(f) * 3;
+    const Mesh copy = tm;  // all property maps and values
+    const auto vmaps = tm.properties<V>(), fmaps = tm.properties<Mesh::Face_index>();
+    bool thrown = false;
+    try {
+      meshfit::fit_template_to_curves(
+          tm, in.network, in.pairs,
+          meshfit::parameters::progress([&](const meshfit::Progress_step& s) { return s.stage != stop_at; })
+              .vertex_texture_map(uv));
+    } catch (const meshfit::Algorithm_failure& e) {
+      thrown = mirror || std::string(e.what()).find("cancelled") != std::string::npos;
+    }
+    CHECK(thrown);
+    CHECK(tm.properties<V>() == vmaps);
+    CHECK(tm.properties<Mesh::Face_index>() == fmaps);
+    CHECK(tm.num_vertices() == copy.num_vertices());
+    CHECK(tm.num_faces() == copy.num_faces());
+    CHECK(tm.num_edges() == copy.num_edges());
+    CHECK(!tm.has_garbage());
+    const auto uv0 = copy.property_map<V, Point_2>("v:uv").first;
+    const auto ftag0 = copy.property_map<Mesh::Face_index, int>("f:tag").first;
+    for (V v : tm.vertices()) {
+      CHECK(tm.point(v) == copy.point(v));
+      CHECK(tm.halfedge(v) == copy.halfedge(v));
+      CHECK(uv[v] == uv0[v]);
+    }
+    for (auto h : tm.halfedges()) {
+      CHECK(tm.target(h) == copy.target(h));
+      CHECK(tm.next(h) == copy.next(h));
+      CHECK(tm.face(h) == copy.face(h));
+    }
+    for (auto f : tm.faces()) CHECK(ftag[f] == ftag0[f]);
+  };
+  for (const char* stage : {"deform", "partition", "smooth", "fit"}) fit_surface_mesh(stage, false);
+  fit_surface_mesh("", true);
+
+  // Polyhedron with a map keyed by its vertex handles.
+  auto fit_polyhedron = [](const std::string& stop_at, bool mirror) {
+    INFO("Polyhedron, " << (mirror ? std::string("mirrored pairs") : "cancelled in " + stop_at));
+    using vertex_descriptor = boost::graph_traits<Poly>::vertex_descriptor;
+    Poly tm;
+    const Network_and_pairs in0 = example(tm);
+    const Network_and_pairs in = mirror ? mirrored(in0) : in0;
+    std::map<vertex_descriptor, Point_2> uv_store;
+    boost::associative_property_map<std::map<vertex_descriptor, Point_2>> uv(uv_store);
+    for (auto v : vertices(tm)) uv_store[v] = Point_2(v->point().y(), v->point().z());
+    const auto uv_before = uv_store;
+    const std::vector<vertex_descriptor> vs(vertices(tm).begin(), vertices(tm).end());
+    const std::vector<boost::graph_traits<Poly>::halfedge_descriptor> hs(halfedges(tm).begin(), halfedges(tm).end());
+    const meshfit::Mesh_data before = meshfit::to_mesh_data(tm);
+    bool thrown = false;
+    try {
+      meshfit::fit_template_to_curves(
+          tm, in.network, in.pairs,
+          meshfit::parameters::progress([&](const meshfit::Progress_step& s) { return s.stage != stop_at; })
+              .vertex_texture_map(uv));
+    } catch (const meshfit::Algorithm_failure& e) {
+      thrown = mirror || std::string(e.what()).find("cancelled") != std::string::npos;
+    }
+    CHECK(thrown);
+    CHECK(std::equal(vs.begin(), vs.end(), vertices(tm).begin(), vertices(tm).end()));
+    CHECK(std::equal(hs.begin(), hs.end(), halfedges(tm).begin(), halfedges(tm).end()));
+    const meshfit::Mesh_data after = meshfit::to_mesh_data(tm);
+    CHECK(after.points == before.points);
+    CHECK(after.triangles == before.triangles);
+    CHECK(uv_store == uv_before);
+  };
+  for (const char* stage : {"deform", "partition", "smooth", "fit"}) fit_polyhedron(stage, false);
+  fit_polyhedron("", true);
+}
