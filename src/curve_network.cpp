@@ -37,26 +37,33 @@ std::array<long long, 3> Curve_network::cell_of(const Point_3& p) const {
           static_cast<long long>(std::floor((p.z() - m_bbox.zmin()) / side))};
 }
 
-// Calls visit(item) for every entry of `grid` (sorted by cell) that may lie within tolerance() of
-// p: in p's cell or a neighbour on the side p is nearer to (cells are 2 tolerance() wide), or on
-// both sides when p is about halfway. Entries of one column (x, y) are contiguous in z.
-template <typename Visit>
-void Curve_network::visit_near(const std::vector<Cell_entry>& grid, const Point_3& p, const Visit& visit) const {
-  const auto c = cell_of(p);
-  const double side = 2 * m_tolerance;
-  const double q[3] = {(p.x() - m_bbox.xmin()) / side, (p.y() - m_bbox.ymin()) / side, (p.z() - m_bbox.zmin()) / side};
-  long long lo[3], hi[3];
+namespace {
+using Cell = std::array<long long, 3>;
+bool cell_less(const Cell& a, const Cell& b) { return std::tie(a[0], a[1], a[2]) < std::tie(b[0], b[1], b[2]); }
+// The cells (lo … hi in each coordinate) that may hold points within the tolerance of a point at
+// q (in cell units of twice the tolerance) in cell c: its own and the neighbour on the side it is
+// nearer to, or both neighbours when it is about halfway.
+void near_cells(const Cell& c, const std::array<double, 3>& q, Cell& lo, Cell& hi) {
   for (int i = 0; i < 3; ++i) {
     const double f = q[i] - static_cast<double>(c[i]);
     lo[i] = c[i] - (f < 0.501 ? 1 : 0);
     hi[i] = c[i] + (f > 0.499 ? 1 : 0);
   }
-  const auto less = [](const Cell_entry& e, const std::array<long long, 3>& k) {
-    return std::tie(e.cell[0], e.cell[1], e.cell[2]) < std::tie(k[0], k[1], k[2]);
-  };
+}
+}  // namespace
+
+// Calls visit(item) for every entry of `grid` (sorted by cell) in the cells near p (near_cells).
+// Entries of one column (x, y) are contiguous in z.
+template <typename Visit>
+void Curve_network::visit_near(const std::vector<Cell_entry>& grid, const Point_3& p, const Visit& visit) const {
+  const double side = 2 * m_tolerance;
+  Cell lo, hi;
+  near_cells(cell_of(p), {(p.x() - m_bbox.xmin()) / side, (p.y() - m_bbox.ymin()) / side, (p.z() - m_bbox.zmin()) / side},
+             lo, hi);
+  const auto less = [](const Cell_entry& e, const Cell& k) { return cell_less(e.cell, k); };
   for (long long x = lo[0]; x <= hi[0]; ++x)
     for (long long y = lo[1]; y <= hi[1]; ++y) {
-      auto it = std::lower_bound(grid.begin(), grid.end(), std::array<long long, 3>{x, y, lo[2]}, less);
+      auto it = std::lower_bound(grid.begin(), grid.end(), Cell{x, y, lo[2]}, less);
       for (; it != grid.end() && it->cell[0] == x && it->cell[1] == y && it->cell[2] <= hi[2]; ++it) visit(it->item);
     }
 }
@@ -109,41 +116,69 @@ Curve_network::Curve_network(const std::vector<Polyline>& polylines, double rela
   // Merge points: each point joins the nearest vertex within the tolerance made by an earlier
   // point (the lowest such vertex when several are nearest), else becomes a vertex: the result of
   // taking the points one by one in input order. The grid holds every point (by its position in
-  // input order) so that it is sorted once.
-  std::vector<std::size_t> first_point{0};
-  for (const auto& line : polylines) first_point.push_back(first_point.back() + line.size());
-  const std::size_t total = first_point.back();
+  // input order), sorted once; a point that joined a vertex is skipped from then on (`skip`,
+  // path-halving pointers to the next entry still to be looked at), and the later points of a
+  // cell are jumped over, so that many points at one place (a feature point of high degree) cost
+  // no more than one.
+  std::size_t total = 0;
+  for (const auto& line : polylines) total += line.size();
   std::vector<Cell_entry> all;
   all.reserve(total);
   for (std::size_t k = 0, g = 0; k < polylines.size(); ++k)
     for (const Point_3& p : polylines[k]) all.push_back({cell_of(p), g++});
   std::sort(all.begin(), all.end(), [](const Cell_entry& a, const Cell_entry& b) {
-    return std::tie(a.cell[0], a.cell[1], a.cell[2], a.item) < std::tie(b.cell[0], b.cell[1], b.cell[2], b.item);
+    return cell_less(a.cell, b.cell) || (a.cell == b.cell && a.item < b.item);
   });
   constexpr std::size_t none = SIZE_MAX;
   std::vector<std::size_t> vertex_made_by(total, none);  // point -> the vertex it made, if it made one
-  const double t2 = m_tolerance * m_tolerance;
+  std::vector<std::size_t> entry_of(total), skip(total + 1);  // point -> its entry in `all`
+  for (std::size_t i = 0; i < total; ++i) entry_of[all[i].item] = i;
+  std::iota(skip.begin(), skip.end(), 0);
+  auto next_entry = [&](std::size_t i) {  // the first entry at or after i not skipped
+    while (skip[i] != i) i = skip[i] = skip[skip[i]];
+    return i;
+  };
+  const auto less = [](const Cell_entry& e, const Cell& k) { return cell_less(e.cell, k); };
+  const double t2 = m_tolerance * m_tolerance, side = 2 * m_tolerance;
   for (std::size_t k = 0, g = 0; k < polylines.size(); ++k) {
     std::vector<std::size_t> ids;
     ids.reserve(polylines[k].size());
     for (const Point_3& p : polylines[k]) {
       std::size_t best = none;
       double best_d2 = t2;
-      visit_near(all, p, [&](std::size_t h) {
-        const std::size_t v = vertex_made_by[h];
-        if (h >= g || v == none) return;
-        const double d2 = CGAL::squared_distance(p, m_points[v]);
-        if (d2 < best_d2 || (d2 == best_d2 && (best == none || v < best))) best_d2 = d2, best = v;
-      });
+      Cell lo, hi;
+      near_cells(all[entry_of[g]].cell,
+                 {(p.x() - m_bbox.xmin()) / side, (p.y() - m_bbox.ymin()) / side, (p.z() - m_bbox.zmin()) / side}, lo, hi);
+      for (long long x = lo[0]; x <= hi[0]; ++x)
+        for (long long y = lo[1]; y <= hi[1]; ++y) {
+          std::size_t i = next_entry(static_cast<std::size_t>(
+              std::lower_bound(all.begin(), all.end(), Cell{x, y, lo[2]}, less) - all.begin()));
+          while (i < total && all[i].cell[0] == x && all[i].cell[1] == y && all[i].cell[2] <= hi[2]) {
+            if (all[i].item >= g) {  // this cell's later points: on to the next cell
+              const Cell next{x, y, all[i].cell[2] + 1};
+              i = next_entry(static_cast<std::size_t>(
+                  std::lower_bound(all.begin() + static_cast<std::ptrdiff_t>(i), all.end(), next, less) - all.begin()));
+              continue;
+            }
+            const std::size_t v = vertex_made_by[all[i].item];  // an earlier point not skipped made one
+            const double d2 = CGAL::squared_distance(p, m_points[v]);
+            if (d2 < best_d2 || (d2 == best_d2 && (best == none || v < best))) best_d2 = d2, best = v;
+            i = next_entry(i + 1);
+          }
+        }
       if (best == none) {
         best = vertex_made_by[g] = m_points.size();
         m_points.push_back(p);
+      } else {
+        skip[entry_of[g]] = entry_of[g] + 1;
       }
       ids.push_back(best);
       ++g;
     }
     m_polylines.push_back(std::move(ids));
   }
+  std::vector<std::size_t>().swap(entry_of);
+  std::vector<std::size_t>().swap(skip);
   // The vertices' grid: the entries of the points that made them, in the same order.
   for (const Cell_entry& e : all)
     if (vertex_made_by[e.item] != none) m_cells.push_back({e.cell, vertex_made_by[e.item]});

@@ -102,6 +102,11 @@ def main():
     emit(out, 'curves-scale1e150', t, faces, c, q)
     # Runaway work: a 3-point polyline at x = 1000 that no pair uses.
     emit(out, 'far-polyline', pts, faces, polys + [[(1000, 0, 0), (1000, 1, 0), (1000, 0, 1)]], pairs)
+    # Runaway work: 300 000 segments from one point (a feature point of that degree), with the
+    # example's pairs' template vertices on four of the spokes' ends.
+    n = 300000
+    star = [[(0.0, 0.0, 0.0), (math.cos(2 * math.pi * k / n), math.sin(2 * math.pi * k / n), 0.5)] for k in range(n)]
+    emit(out, 'star', pts, faces, star, [(i, star[k][1]) for i, k in zip(range(4), (0, n // 4, n // 2, 3 * n // 4))])
     # Memory: every segment cut into 70 pieces (about 15 000 network vertices).
     fine = []
     for pl in polys:

@@ -120,6 +120,10 @@ fit "runaway/far-polyline/fit" 3 "$cases/far-polyline"
 fit "runaway/far-polyline/fit-thesis" 3 "$cases/far-polyline" --fine-level thesis
 deform "runaway/far-polyline/deform-thesis" 3 "$cases/far-polyline" --fine-level thesis
 
+# A feature point of degree 300 000: read and checked (or refused) within the limit, not in
+# quadratic time.
+check "runaway/star/check" "0|1" "$cases/star"
+
 # 3. Memory: 15 000 network vertices; refused with an estimate under a 2 GB limit, or done.
 fit "memory/dense70/fit" "0|3" "$cases/dense70"
 fit "memory/dense70/fit-thesis" "0|3" "$cases/dense70" --fine-level thesis
