@@ -30,20 +30,23 @@ Input_location location_of(const std::vector<Input_location>& where, std::size_t
 std::string polyline_name(std::size_t k) { return "polyline " + std::to_string(k); }
 }  // namespace
 
-std::array<long long, 3> Curve_network::cell_of(const Point_3& p) const {
-  const double side = 2 * m_tolerance;
-  return {static_cast<long long>(std::floor((p.x() - m_bbox.xmin()) / side)),
-          static_cast<long long>(std::floor((p.y() - m_bbox.ymin()) / side)),
-          static_cast<long long>(std::floor((p.z() - m_bbox.zmin()) / side))};
-}
-
 namespace {
 using Cell = std::array<long long, 3>;
 bool cell_less(const Cell& a, const Cell& b) { return std::tie(a[0], a[1], a[2]) < std::tie(b[0], b[1], b[2]); }
+// p's position in the merge grid: cells of side twice the tolerance from the box's corner.
+std::array<double, 3> grid_coordinates(const Point_3& p, const Bbox_3& box, double tolerance) {
+  const double side = 2 * tolerance;
+  return {(p.x() - box.xmin()) / side, (p.y() - box.ymin()) / side, (p.z() - box.zmin()) / side};
+}
+Cell cell_at(const std::array<double, 3>& q) {
+  return {static_cast<long long>(std::floor(q[0])), static_cast<long long>(std::floor(q[1])),
+          static_cast<long long>(std::floor(q[2]))};
+}
 // The cells (lo … hi in each coordinate) that may hold points within the tolerance of a point at
-// q (in cell units of twice the tolerance) in cell c: its own and the neighbour on the side it is
-// nearer to, or both neighbours when it is about halfway.
-void near_cells(const Cell& c, const std::array<double, 3>& q, Cell& lo, Cell& hi) {
+// grid coordinates q: its own and the neighbour on the side it is nearer to, or both neighbours
+// when it is about halfway.
+void near_cells(const std::array<double, 3>& q, Cell& lo, Cell& hi) {
+  const Cell c = cell_at(q);
   for (int i = 0; i < 3; ++i) {
     const double f = q[i] - static_cast<double>(c[i]);
     lo[i] = c[i] - (f < 0.501 ? 1 : 0);
@@ -52,14 +55,16 @@ void near_cells(const Cell& c, const std::array<double, 3>& q, Cell& lo, Cell& h
 }
 }  // namespace
 
+std::array<long long, 3> Curve_network::cell_of(const Point_3& p) const {
+  return cell_at(grid_coordinates(p, m_bbox, m_tolerance));
+}
+
 // Calls visit(item) for every entry of `grid` (sorted by cell) in the cells near p (near_cells).
 // Entries of one column (x, y) are contiguous in z.
 template <typename Visit>
 void Curve_network::visit_near(const std::vector<Cell_entry>& grid, const Point_3& p, const Visit& visit) const {
-  const double side = 2 * m_tolerance;
   Cell lo, hi;
-  near_cells(cell_of(p), {(p.x() - m_bbox.xmin()) / side, (p.y() - m_bbox.ymin()) / side, (p.z() - m_bbox.zmin()) / side},
-             lo, hi);
+  near_cells(grid_coordinates(p, m_bbox, m_tolerance), lo, hi);
   const auto less = [](const Cell_entry& e, const Cell& k) { return cell_less(e.cell, k); };
   for (long long x = lo[0]; x <= hi[0]; ++x)
     for (long long y = lo[1]; y <= hi[1]; ++y) {
@@ -139,7 +144,7 @@ Curve_network::Curve_network(const std::vector<Polyline>& polylines, double rela
     return i;
   };
   const auto less = [](const Cell_entry& e, const Cell& k) { return cell_less(e.cell, k); };
-  const double t2 = m_tolerance * m_tolerance, side = 2 * m_tolerance;
+  const double t2 = m_tolerance * m_tolerance;
   for (std::size_t k = 0, g = 0; k < polylines.size(); ++k) {
     std::vector<std::size_t> ids;
     ids.reserve(polylines[k].size());
@@ -147,8 +152,7 @@ Curve_network::Curve_network(const std::vector<Polyline>& polylines, double rela
       std::size_t best = none;
       double best_d2 = t2;
       Cell lo, hi;
-      near_cells(all[entry_of[g]].cell,
-                 {(p.x() - m_bbox.xmin()) / side, (p.y() - m_bbox.ymin()) / side, (p.z() - m_bbox.zmin()) / side}, lo, hi);
+      near_cells(grid_coordinates(p, m_bbox, m_tolerance), lo, hi);
       for (long long x = lo[0]; x <= hi[0]; ++x)
         for (long long y = lo[1]; y <= hi[1]; ++y) {
           std::size_t i = next_entry(static_cast<std::size_t>(

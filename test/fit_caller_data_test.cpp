@@ -89,6 +89,23 @@ double largest_harmonic_residual(const TriangleMesh& tm, const std::vector<bool>
   return worst;
 }
 
+// Fits with a progress callback that cancels when `stop_at` starts (none when empty) and the UV
+// map as vertex_texture_map; true when the fit threw Algorithm_failure as it should: for the
+// cancel, or (with `mirror`) for the mirrored pairs.
+template <typename TriangleMesh, typename UvMap>
+bool fit_is_refused(TriangleMesh& tm, const Network_and_pairs& in, const std::string& stop_at, bool mirror,
+                    const UvMap& uv) {
+  try {
+    meshfit::fit_template_to_curves(
+        tm, in.network, in.pairs,
+        meshfit::parameters::progress([&](const meshfit::Progress_step& s) { return s.stage != stop_at; })
+            .vertex_texture_map(uv));
+  } catch (const meshfit::Algorithm_failure& e) {
+    return mirror || std::string(e.what()).find("cancelled") != std::string::npos;
+  }
+  return false;
+}
+
 }  // namespace
 
 TEST_CASE("fit: a Surface_mesh keeps every property map, with its values on the template's vertices, edges and faces",
@@ -336,16 +353,7 @@ TEST_CASE("fit: a cancelled or failed fit leaves the mesh, its property maps and
     for (auto f : tm.faces()) ftag[f] = int(f) * 3;
     const Mesh copy = tm;  // all property maps and values
     const auto vmaps = tm.properties<V>(), fmaps = tm.properties<Mesh::Face_index>();
-    bool thrown = false;
-    try {
-      meshfit::fit_template_to_curves(
-          tm, in.network, in.pairs,
-          meshfit::parameters::progress([&](const meshfit::Progress_step& s) { return s.stage != stop_at; })
-              .vertex_texture_map(uv));
-    } catch (const meshfit::Algorithm_failure& e) {
-      thrown = mirror || std::string(e.what()).find("cancelled") != std::string::npos;
-    }
-    CHECK(thrown);
+    CHECK(fit_is_refused(tm, in, stop_at, mirror, uv));
     CHECK(tm.properties<V>() == vmaps);
     CHECK(tm.properties<Mesh::Face_index>() == fmaps);
     CHECK(tm.num_vertices() == copy.num_vertices());
@@ -383,16 +391,7 @@ TEST_CASE("fit: a cancelled or failed fit leaves the mesh, its property maps and
     const std::vector<vertex_descriptor> vs(vertices(tm).begin(), vertices(tm).end());
     const std::vector<boost::graph_traits<Poly>::halfedge_descriptor> hs(halfedges(tm).begin(), halfedges(tm).end());
     const meshfit::Mesh_data before = meshfit::to_mesh_data(tm);
-    bool thrown = false;
-    try {
-      meshfit::fit_template_to_curves(
-          tm, in.network, in.pairs,
-          meshfit::parameters::progress([&](const meshfit::Progress_step& s) { return s.stage != stop_at; })
-              .vertex_texture_map(uv));
-    } catch (const meshfit::Algorithm_failure& e) {
-      thrown = mirror || std::string(e.what()).find("cancelled") != std::string::npos;
-    }
-    CHECK(thrown);
+    CHECK(fit_is_refused(tm, in, stop_at, mirror, uv));
     CHECK(std::equal(vs.begin(), vs.end(), vertices(tm).begin(), vertices(tm).end()));
     CHECK(std::equal(hs.begin(), hs.end(), halfedges(tm).begin(), halfedges(tm).end()));
     const meshfit::Mesh_data after = meshfit::to_mesh_data(tm);
