@@ -6,6 +6,7 @@
 #include <Eigen/CholmodSupport>
 #include <Eigen/SparseCore>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -31,6 +32,33 @@ class One_blas_thread {
   int m_threads;
 };
 
+// Whether each vertex's connected part holds a marked vertex.
+std::vector<bool> reaches(const Vertex_adjacency& adj, const std::vector<bool>& marked) {
+  const std::size_t n = adj.size();
+  std::vector<bool> out(n, false);
+  std::vector<std::size_t> part(n, SIZE_MAX), stack, members;
+  for (std::size_t s = 0; s < n; ++s) {
+    if (part[s] != SIZE_MAX) continue;
+    bool any = false;
+    members.clear();
+    stack.assign(1, s);
+    part[s] = s;
+    while (!stack.empty()) {
+      const std::size_t v = stack.back();
+      stack.pop_back();
+      members.push_back(v);
+      any = any || marked[v];
+      for (std::size_t k = adj.offsets[v]; k < adj.offsets[v + 1]; ++k) {
+        const std::size_t w = adj.neighbours[k];
+        if (part[w] == SIZE_MAX) part[w] = s, stack.push_back(w);
+      }
+    }
+    if (any)
+      for (std::size_t v : members) out[v] = true;
+  }
+  return out;
+}
+
 }  // namespace
 
 std::vector<Vector_3> interpolate_displacements(const Vertex_adjacency& adj, const std::vector<bool>& constrained,
@@ -53,28 +81,9 @@ std::vector<Vector_3> interpolate_displacements(const Vertex_adjacency& adj, con
   for (std::size_t i = 0; i < n; ++i)
     if (constrained[i]) d[i] = given[i];
   Displacement_report r;
-  {
-    std::vector<std::size_t> part(n, SIZE_MAX), stack, members;
-    for (std::size_t s = 0; s < n; ++s) {
-      if (part[s] != SIZE_MAX) continue;
-      bool any = false;
-      members.clear();
-      stack.assign(1, s);
-      part[s] = s;
-      while (!stack.empty()) {
-        const std::size_t v = stack.back();
-        stack.pop_back();
-        members.push_back(v);
-        any = any || constrained[v];
-        for (std::size_t k = adj.offsets[v]; k < adj.offsets[v + 1]; ++k) {
-          const std::size_t w = adj.neighbours[k];
-          if (part[w] == SIZE_MAX) part[w] = s, stack.push_back(w);
-        }
-      }
-      if (!any)
-        for (std::size_t v : members) held[v] = true, ++r.unconstrained_free_vertices;
-    }
-  }
+  const std::vector<bool> reached = reaches(adj, constrained);
+  for (std::size_t i = 0; i < n; ++i)
+    if (!reached[i]) held[i] = true, ++r.unconstrained_free_vertices;
   std::vector<std::ptrdiff_t> free_index(n, -1);
   std::ptrdiff_t nf = 0;
   for (std::size_t i = 0; i < n; ++i)
@@ -140,6 +149,77 @@ std::vector<Vector_3> interpolate_displacements(const Vertex_adjacency& adj, con
   for (std::size_t i = 0; i < n; ++i)
     if (free_index[i] >= 0) d[i] = Vector_3(x(free_index[i], 0), x(free_index[i], 1), x(free_index[i], 2));
   if (report) *report = r;
+  return d;
+}
+
+std::vector<Vector_3> fit_displacements(const Vertex_adjacency& adj, const std::vector<Soft_displacement>& constraints,
+                                        double stiffness) {
+  internal::Fp_trap_scope traps;
+  const std::size_t n = adj.size();
+  if (!(stiffness > 0) || !std::isfinite(stiffness))
+    throw Invalid_input("displacement: the stiffness must be positive, not " + std::to_string(stiffness));
+  using Sparse = Eigen::SparseMatrix<double>;
+  std::vector<Eigen::Triplet<double>> t;
+  t.reserve(n + adj.neighbours.size());
+  Eigen::VectorXd inverse_degree(static_cast<Eigen::Index>(n));
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t deg = adj.offsets[i + 1] - adj.offsets[i];
+    const auto ii = static_cast<Eigen::Index>(i);
+    inverse_degree(ii) = deg > 0 ? 1.0 / static_cast<double>(deg) : 0.0;
+    t.emplace_back(ii, ii, static_cast<double>(deg));
+    for (std::size_t k = adj.offsets[i]; k < adj.offsets[i + 1]; ++k)
+      t.emplace_back(ii, static_cast<Eigen::Index>(adj.neighbours[k]), -1.0);
+  }
+  const auto N = static_cast<Eigen::Index>(n);
+  Sparse K(N, N);
+  K.setFromTriplets(t.begin(), t.end());
+  Sparse A = stiffness * Sparse(K * inverse_degree.asDiagonal() * K);
+  t.clear();
+  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(N, 3);
+  for (const Soft_displacement& c : constraints) {
+    for (std::size_t a = 0; a < 3; ++a)
+      if (c.corners[a] >= n) throw Invalid_input("displacement: a constraint's corner " + std::to_string(c.corners[a]) + " is out of range");
+    if (!(std::isfinite(c.target.x()) && std::isfinite(c.target.y()) && std::isfinite(c.target.z())))
+      throw Invalid_input("displacement: a constraint's target is not finite");
+    if (!(c.weight >= 0 && std::isfinite(c.weight)) ||
+        !std::all_of(c.barycentric.begin(), c.barycentric.end(), [](double b) { return std::isfinite(b); }))
+      throw Invalid_input("displacement: a constraint's weight must be finite and not negative, its coordinates finite");
+    for (std::size_t a = 0; a < 3; ++a) {
+      const auto ia = static_cast<Eigen::Index>(c.corners[a]);
+      const double wa = c.weight * c.barycentric[a];
+      rhs(ia, 0) += wa * c.target.x();
+      rhs(ia, 1) += wa * c.target.y();
+      rhs(ia, 2) += wa * c.target.z();
+      for (std::size_t b = 0; b < 3; ++b)
+        t.emplace_back(ia, static_cast<Eigen::Index>(c.corners[b]), wa * c.barycentric[b]);
+    }
+  }
+  // Parts of the mesh without a constraint keep a zero displacement (an identity row); elsewhere
+  // the data term is definite on the constants, the thin-plate energy's kernel in each part.
+  std::vector<bool> touched(n, false);
+  for (const Soft_displacement& c : constraints)
+    for (std::size_t a = 0; a < 3; ++a)
+      if (c.barycentric[a] != 0 && c.weight != 0) touched[c.corners[a]] = true;
+  const std::vector<bool> reached = reaches(adj, touched);
+  for (std::size_t i = 0; i < n; ++i)
+    if (!reached[i]) t.emplace_back(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(i), 1.0);
+  Sparse data(N, N);
+  data.setFromTriplets(t.begin(), t.end());
+  A += data;
+  const One_blas_thread one_thread;
+  Eigen::CholmodSupernodalLLT<Sparse, Eigen::Lower> solver;
+  solver.compute(A);
+  if (solver.info() != Eigen::Success)
+    throw Numerical_error("displacement: the sparse Cholesky factorisation of the " + std::to_string(n) + "×" +
+                          std::to_string(n) + " fitting system failed");
+  const Eigen::MatrixXd x = solver.solve(rhs);
+  if (solver.info() != Eigen::Success || !x.allFinite())
+    throw Numerical_error("displacement: the fitting solve gave a non-finite value");
+  std::vector<Vector_3> d(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto ii = static_cast<Eigen::Index>(i);
+    d[i] = Vector_3(x(ii, 0), x(ii, 1), x(ii, 2));
+  }
   return d;
 }
 

@@ -93,3 +93,45 @@ TEST_CASE("displacement: a part with no held vertex keeps a zero displacement; b
   given[0] = Vector_3(std::nan(""), 0, 0);
   CHECK_THROWS_AS(meshfit::interpolate_displacements(a, held, given, 2), meshfit::Invalid_input);
 }
+
+TEST_CASE("displacement: fit_displacements meets its targets when soft, tends to their mean when stiff", "[displacement]") {
+  const std::size_t n = 8;
+  const Vertex_adjacency a = grid_graph(n);
+  using meshfit::Soft_displacement;
+  // A constant target at every vertex: a constant field has no thin-plate energy, whatever the stiffness.
+  std::vector<Soft_displacement> all;
+  for (std::size_t i = 0; i < n * n; ++i) all.push_back({{i, i, i}, {1, 0, 0}, Vector_3(0.5, -1, 2), 1});
+  for (double stiffness : {1e-3, 1.0, 1e3})
+    for (const Vector_3& v : meshfit::fit_displacements(a, all, stiffness))
+      CHECK(std::sqrt((v - Vector_3(0.5, -1, 2)).squared_length()) < 1e-6);
+  // Two targets at the corners (0, 0) and (7, 7), one of them at the middle of an edge.
+  const std::vector<Soft_displacement> two = {{{0, 1, 0}, {0.5, 0.5, 0}, Vector_3(1, 0, 0), 1},
+                                              {{n * n - 1, n * n - 1, n * n - 1}, {1, 0, 0}, Vector_3(-1, 0, 4), 1}};
+  const auto soft = meshfit::fit_displacements(a, two, 1e-8);
+  CHECK(std::sqrt((0.5 * (soft[0] + soft[1]) - Vector_3(1, 0, 0)).squared_length()) < 1e-4);
+  CHECK(std::sqrt((soft[n * n - 1] - Vector_3(-1, 0, 4)).squared_length()) < 1e-4);
+  // Very stiff: nearly constant, the least-squares constant of the two targets (their mean).
+  for (const Vector_3& v : meshfit::fit_displacements(a, two, 1e8))
+    CHECK(std::sqrt((v - Vector_3(0, 0, 2)).squared_length()) < 1e-3);
+}
+
+TEST_CASE("displacement: fit_displacements leaves unconstrained parts still and refuses bad input", "[displacement]") {
+  Vertex_adjacency a;  // two separate edges 0 - 1 and 2 - 3
+  a.neighbours = {1, 0, 3, 2};
+  a.offsets = {0, 1, 2, 3, 4};
+  using meshfit::Soft_displacement;
+  std::vector<Soft_displacement> c = {{{0, 0, 0}, {1, 0, 0}, Vector_3(0, 1, 0), 1}};
+  const auto d = meshfit::fit_displacements(a, c, 1);
+  CHECK(d[0].y() == Approx(1).margin(1e-6));
+  CHECK(d[1].y() == Approx(1).margin(1e-6));
+  CHECK(std::sqrt(d[2].squared_length()) < 1e-12);
+  CHECK(std::sqrt(d[3].squared_length()) < 1e-12);
+  CHECK_THROWS_AS(meshfit::fit_displacements(a, c, 0), meshfit::Invalid_input);
+  CHECK_THROWS_AS(meshfit::fit_displacements(a, c, std::nan("")), meshfit::Invalid_input);
+  c.push_back({{0, 4, 1}, {0.2, 0.3, 0.5}, Vector_3(0, 0, 0), 1});
+  CHECK_THROWS_AS(meshfit::fit_displacements(a, c, 1), meshfit::Invalid_input);
+  c.back() = {{0, 1, 1}, {0.2, 0.3, 0.5}, Vector_3(std::nan(""), 0, 0), 1};
+  CHECK_THROWS_AS(meshfit::fit_displacements(a, c, 1), meshfit::Invalid_input);
+  c.back() = {{0, 1, 1}, {0.2, 0.3, 0.5}, Vector_3(0, 0, 0), -1};
+  CHECK_THROWS_AS(meshfit::fit_displacements(a, c, 1), meshfit::Invalid_input);
+}

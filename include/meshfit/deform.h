@@ -80,6 +80,17 @@ enum class Fine_level {
 /// "surface" or "thesis" (the command line's spelling).
 inline const char* to_string(Fine_level level) { return level == Fine_level::surface ? "surface" : "thesis"; }
 
+/// How Fine_level::surface brought the coarse surface towards the curves before embedding them
+/// (deform_fine_on_surface, step 0).
+enum class Approach {
+  none,              ///< not at all: the embedding starts from the coarse surface
+  icp,               ///< non-rigid ICP in steps of falling stiffness (internal::approach_curves_icp)
+  nearest_vertices,  ///< the thin-plate field through the nearest template vertices (internal::approach_curves)
+};
+inline const char* to_string(Approach a) {
+  return a == Approach::icp ? "icp" : a == Approach::nearest_vertices ? "nearest_vertices" : "none";
+}
+
 /// What a deformation did.
 struct Deformation_report {
   // coarse level
@@ -113,11 +124,13 @@ struct Deformation_report {
   /// Network vertices whose surface point, tracked along the curves, is not the nearest point of
   /// the whole coarse surface (internal::tracked_projections).
   std::size_t projections_off_nearest = 0;
-  /// Template vertices given a motion towards the curves before the embedding, and the part of
-  /// that motion applied (0: none; deform_fine_on_surface, step 0).
+  /// The approach whose result was kept (deform_fine_on_surface, step 0), the constraints it
+  /// set (template vertices, or network vertices and pairs for ICP), and the part of its motion
+  /// applied (of the last step for ICP; 0: none).
+  Approach approach = Approach::none;
   std::size_t approach_constraints = 0;
   double approach_scale = 0;  ///< the part of the approach motion applied (see approach_constraints)
-  /// The steps after the approach left defects and ran again without it.
+  /// Steps 1-4 ran more than once (an earlier start left defects).
   bool approach_retried = false;
   /// Points added on long segments (deform_fine_on_surface, step 0), which become mesh vertices.
   std::size_t network_points_added = 0;
@@ -540,9 +553,11 @@ Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
 ///      long straight segment's ends project onto a curved surface far from where its middle
 ///      does, and the pieces follow the surface; the report speaks of the network's own
 ///      vertices and segments (`network_points_added` counts the points). Then the surface is
-///      brought towards the curves along itself (internal::approach_curves: the thin-plate field
-///      through the motions that the curves' surface points should make, given to vertices
-///      three edges apart), unless even an eighth of that would turn a face over or fold an edge;
+///      brought towards the curves: by non-rigid ICP (internal::approach_curves_icp: up to six
+///      least-squares steps of falling stiffness, each asking that the point of the surface
+///      tracked for every network vertex move onto it against the thin-plate energy of the
+///      motion, each untangled, halved while it leaves a face turned over or a new fold, and
+///      the last that cannot be made ending the approach);
 ///   1. every network vertex gets a mesh vertex at (or near) its point on the surface, tracked
 ///      along the curves from the user's pairs (internal::tracked_projections); the vertices of
 ///      curves running along the border go onto the border (a curve runs along it when its
@@ -563,9 +578,12 @@ Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
 ///      kept), and an edge of a bad face whose corners are all held is flipped when both new
 ///      faces are good. `report.remaining_flips` and `report.remaining_folds` are what is left.
 /// Vertices are added only in step 1 (at most one per network vertex and added point), after the
-/// existing ones. When the approach was made and steps 1-4 leave defects (segments not embedded,
-/// faces turned over or folded), they run again from the coarse surface without it, and the
-/// better result is kept (`approach_retried`; the first on a tie). The mesh is then rebuilt in
+/// existing ones. When steps 1-4 after the ICP approach leave defects (segments not embedded,
+/// faces turned over or folded), they run again from the coarse surface after the older approach
+/// (internal::approach_curves: the thin-plate field through the motions of the curves' surface
+/// points given to template vertices three edges apart, unless even an eighth of it turns a face
+/// over or folds an edge), and then without approach; the result with the fewest defects is kept
+/// (`approach`, `approach_retried`; the earlier on a tie). The mesh is then rebuilt in
 /// place, its vertices and faces in their order: the values of the caller's own properties on it
 /// are not kept.
 /// \tparam TriangleMesh a model of `MutableFaceGraph` (tested: CGAL::Surface_mesh, CGAL::Polyhedron_3)
@@ -712,34 +730,44 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
   auto defects = [](const Deformation_report& r) {
     return r.segments_not_embedded.size() + r.remaining_flips + r.remaining_folds;
   };
-  std::vector<Point_3> coarse_points = points();
-  const internal::Approach_result approach = internal::approach_curves(tm, vpm, cut.network, cut_pairs);
-  auto with_approach = [&](Deformation_report r, bool applied) {
-    r.approach_constraints = approach.constraints;
-    r.approach_scale = applied ? approach.scale : 0;
-    return r;
-  };
-  if (approach.scale == 0) return with_approach(run(), false);
-  Snapshot coarse = snapshot();  // the approach moved the points only
-  coarse.points = std::move(coarse_points);
-  // The approach brings the surface nearer to the curves, which usually leaves the embedding less
-  // to do, but not always: when the result is not clean, the steps run again from the coarse
-  // surface as it was, and the better result is kept (the first when they tie).
-  std::optional<Deformation_report> first;
-  try {
-    first = with_approach(run(), true);
-  } catch (const Algorithm_failure&) {
+  // Three starts, tried in turn until one leaves no defect: the coarse surface brought towards the
+  // curves by non-rigid ICP (internal::approach_curves_icp), by the thin-plate field through the
+  // nearest template vertices (internal::approach_curves), and as it is. Each approach is made
+  // from the coarse surface; when none is clean, the start with the fewest defects is kept (the
+  // earlier on a tie).
+  // A polyline far from the coarse surface is refused before any approach pulls the surface to it.
+  internal::check_polylines_near(tm, vpm, network);
+  const Snapshot coarse = snapshot();
+  std::optional<Deformation_report> best;
+  std::optional<Snapshot> best_mesh;
+  std::size_t tried = 0;
+  for (int start = 0; start < 3; ++start) {
+    if (tried > 0) restore(coarse);
+    internal::Approach_result approach;
+    if (start == 0) approach = internal::approach_curves_icp(tm, vpm, cut.network, cut_pairs);
+    if (start == 1) approach = internal::approach_curves(tm, vpm, cut.network, cut_pairs);
+    if (start < 2 && approach.scale == 0) continue;  // the approach made no motion: the same start as the last
+    std::optional<Deformation_report> r;
+    try {
+      r = run();
+    } catch (const Algorithm_failure&) {
+      if (start == 2 && !best) throw;
+    }
+    ++tried;
+    if (!r) continue;
+    r->approach_constraints = approach.constraints;
+    r->approach_scale = approach.scale;
+    r->approach = start == 0 ? Approach::icp : start == 1 ? Approach::nearest_vertices : Approach::none;
+    r->approach_retried = tried > 1;
+    if (!best || defects(*r) < defects(*best)) {
+      best = r;
+      best_mesh.reset();
+      if (defects(*r) == 0) return *best;
+      best_mesh = snapshot();
+    }
   }
-  if (first && defects(*first) == 0) return *first;
-  std::optional<Snapshot> tried;
-  if (first) tried = snapshot();
-  restore(coarse);
-  Deformation_report second = with_approach(run(), false);
-  second.approach_retried = true;
-  if (!first || defects(second) < defects(*first)) return second;
-  restore(*tried);
-  first->approach_retried = true;
-  return *first;
+  if (best_mesh) restore(*best_mesh);
+  return *best;
 }
 
 namespace internal {

@@ -14,6 +14,7 @@
 
 #include <meshfit/kernel.h>
 
+#include <array>
 #include <cstddef>
 #include <vector>
 
@@ -45,6 +46,23 @@ struct Displacement_report {
 std::vector<Vector_3> interpolate_displacements(const Vertex_adjacency& adjacency, const std::vector<bool>& constrained,
                                                 const std::vector<Vector_3>& given, int order = 2,
                                                 Displacement_report* report = nullptr);
+
+/// A soft constraint of fit_displacements: the displacement at a point of a face (its corners'
+/// displacements weighted by the point's barycentric coordinates) should be `target`.
+struct Soft_displacement {
+  std::array<std::size_t, 3> corners{};
+  std::array<double, 3> barycentric{};
+  Vector_3 target{0, 0, 0};
+  double weight = 1;
+};
+
+/// The displacement d minimising Σ weight·‖Σ_k barycentric_k d_{corner_k} − target‖² +
+/// stiffness · (thin-plate energy of d, uniform Laplacian as above): the least-squares step of a
+/// non-rigid ICP (the stiffer, the smoother). Parts of the mesh with no constraint keep a zero
+/// displacement. \throws Invalid_input on a corner out of range, a non-finite target or a
+/// stiffness that is not positive; Numerical_error when the factorisation fails.
+std::vector<Vector_3> fit_displacements(const Vertex_adjacency& adjacency, const std::vector<Soft_displacement>& constraints,
+                                        double stiffness);
 
 }  // namespace meshfit
 

@@ -622,6 +622,7 @@ Json json_fine_level(const meshfit::Deformation_report& r) {
     j["largest_projection_distance"] = number(r.largest_projection_distance);
     j["template_subdivisions"] = r.template_subdivisions;
     j["network_points_added"] = r.network_points_added;
+    j["approach"] = meshfit::to_string(r.approach);
     j["approach_constraints"] = r.approach_constraints;
     j["approach_scale"] = number(r.approach_scale);
     j["approach_retried"] = r.approach_retried;

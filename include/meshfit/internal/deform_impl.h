@@ -497,6 +497,125 @@ Approach_result approach_curves(TriangleMesh& tm, const VPM& vpm, const Curve_ne
   return result;
 }
 
+/// Non-rigid ICP: brings the coarse surface towards the curves in up to six steps of falling
+/// stiffness (10, then a quarter of the last), before the curves are embedded in it. Each step
+/// takes every network vertex's surface point (tracked along the curves: tracked_projections)
+/// and asks, in the least-squares sense, that the point of its face move onto the vertex, against
+/// `stiffness` times the thin-plate energy of the motion (fit_displacements). Where the step
+/// turns a face over against its own normal before the step (an exact orientation with the
+/// normal's end as fourth point) or folds an edge that was neither folded nor sharp (faces more
+/// than 60 degrees apart: a smooth motion may tip such an edge over), the free vertices around
+/// those faces (2, then 6 rings; the border stays) are untangled (untangle_faces). A step that
+/// still leaves such a face is halved, twice; the first step that cannot be made ends the
+/// approach. The stiffness and the data are free of units (uniform Laplacian, barycentric
+/// weights): the motion does not depend on where the inputs are placed.
+template <typename TriangleMesh, typename VPM>
+Approach_result approach_curves_icp(TriangleMesh& tm, const VPM& vpm, const Curve_network& network,
+                                    const std::vector<Correspondence>& pairs) {
+  using Primitive = CGAL::AABB_face_graph_triangle_primitive<TriangleMesh, VPM>;
+  using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+  Deform_state<TriangleMesh, VPM> s(tm, vpm);
+  const std::size_t n = s.vertex.size();
+  const Vertex_adjacency adjacency = s.adjacency();
+  std::vector<std::array<std::size_t, 3>> corners;
+  auto face_index = get(CGAL::dynamic_face_property_t<std::size_t>(), tm);
+  for (auto f : faces(tm)) {
+    put(face_index, f, corners.size());
+    corners.push_back(s.corners(f));
+  }
+  // Edges exempt from the fold test: folded or sharp on the coarse surface.
+  std::vector<bool> exempt;
+  s.folded_faces(s.positions(), &exempt);
+  {
+    const std::vector<Point_3> p = s.positions();
+    auto normal = [&](auto h) {
+      const auto& c = corners[get(face_index, face(h, tm))];
+      return CGAL::cross_product(p[c[1]] - p[c[0]], p[c[2]] - p[c[0]]);
+    };
+    std::size_t k = 0;
+    for (auto e : edges(tm)) {
+      const std::size_t ek = k++;
+      const auto h = halfedge(e, tm), g = opposite(h, tm);
+      if (is_border(h, tm) || is_border(g, tm)) continue;
+      const Vector_3 a = normal(h), b = normal(g);
+      if (!(a * b > 0.5 * std::sqrt(a.squared_length() * b.squared_length()))) exempt[ek] = true;
+    }
+  }
+  Approach_result result;
+  double stiffness = 10;
+  for (int step = 0; step < 6; ++step, stiffness /= 4) {
+    const std::vector<Point_3> before = s.positions();
+    std::vector<Soft_displacement> constraints;
+    {
+      Tree tree(faces(tm).first, faces(tm).second, tm, vpm);
+      tree.accelerate_distance_queries();
+      std::size_t off_nearest = 0;
+      const std::vector<Point_3> surface_point = tracked_projections(tm, vpm, tree, network, pairs, off_nearest);
+      for (std::size_t v = 0; v < network.number_of_vertices(); ++v) {
+        const auto& c = corners[get(face_index, tree.closest_point_and_primitive(surface_point[v]).second)];
+        // The surface point's barycentric coordinates in its face (a weight, not a decision).
+        const Vector_3 e0 = before[c[1]] - before[c[0]], e1 = before[c[2]] - before[c[0]],
+                       e2 = surface_point[v] - before[c[0]];
+        const double d00 = e0 * e0, d01 = e0 * e1, d11 = e1 * e1, d20 = e2 * e0, d21 = e2 * e1;
+        const double den = d00 * d11 - d01 * d01;
+        double b1 = den > 0 ? (d11 * d20 - d01 * d21) / den : 0, b2 = den > 0 ? (d00 * d21 - d01 * d20) / den : 0;
+        b1 = std::clamp(b1, 0.0, 1.0);
+        b2 = std::clamp(b2, 0.0, 1.0 - b1);
+        constraints.push_back({c, {1 - b1 - b2, b1, b2}, network.point(v) - surface_point[v], 1});
+      }
+    }
+    result.constraints = constraints.size();
+    const std::vector<Vector_3> d = fit_displacements(adjacency, constraints, stiffness);
+    // Faces judged against their normals before the step; vertices move in their tangent planes.
+    std::vector<Vector_3> face_normal, vertex_normal(n, Vector_3(0, 0, 0));
+    for (const auto& c : corners) {
+      face_normal.push_back(CGAL::cross_product(before[c[1]] - before[c[0]], before[c[2]] - before[c[0]]));
+      for (std::size_t k : c) vertex_normal[k] = vertex_normal[k] + face_normal.back();
+    }
+    auto bad_faces = [&](const std::vector<Point_3>& p) {
+      std::vector<std::size_t> bad;
+      for (std::size_t k = 0; k < corners.size(); ++k) {
+        const auto& c = corners[k];
+        if (CGAL::orientation(p[c[0]], p[c[1]], p[c[2]], p[c[0]] + face_normal[k]) != CGAL::POSITIVE) bad.push_back(k);
+      }
+      for (auto f : s.folded_faces(p, nullptr, &exempt)) bad.push_back(get(face_index, f));
+      return bad;
+    };
+    bool moved = false;
+    for (double scale = 1; scale > 0.2 && !moved; scale /= 2) {
+      std::vector<Point_3> after(n);
+      for (std::size_t i = 0; i < n; ++i) after[i] = before[i] + scale * d[i];
+      std::vector<std::size_t> bad = bad_faces(after);
+      for (std::size_t rings : {2, 6}) {
+        if (bad.empty()) break;
+        std::vector<bool> free(n, false);
+        std::vector<std::size_t> ring;
+        for (std::size_t k : bad)
+          for (std::size_t c : corners[k])
+            if (!free[c]) free[c] = true, ring.push_back(c);
+        for (std::size_t grow = 0; grow < rings; ++grow) {
+          std::vector<std::size_t> next;
+          for (std::size_t i : ring)
+            for (std::size_t k = adjacency.offsets[i]; k < adjacency.offsets[i + 1]; ++k)
+              if (!free[adjacency.neighbours[k]]) free[adjacency.neighbours[k]] = true, next.push_back(adjacency.neighbours[k]);
+          ring.swap(next);
+        }
+        for (std::size_t i = 0; i < n; ++i)
+          if (free[i] && is_border(s.vertex[i], tm)) free[i] = false;
+        std::vector<Point_3> trial = untangle_faces(after, corners, face_normal, free, vertex_normal, 1.0);
+        std::vector<std::size_t> now = bad_faces(trial);
+        if (now.size() < bad.size()) after.swap(trial), bad.swap(now);
+      }
+      if (!bad.empty()) continue;
+      s.set_positions(after);
+      result.scale = scale;
+      moved = true;
+    }
+    if (!moved) break;
+  }
+  return result;
+}
+
 /// deform_fine_on_surface on the network as it is (its long segments not cut).
 template <typename TriangleMesh, typename NamedParameters>
 Deformation_report fine_on_surface(TriangleMesh& tm, const Curve_network& network, const std::vector<Correspondence>& pairs,
