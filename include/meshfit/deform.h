@@ -87,6 +87,7 @@ enum class Approach {
   icp,               ///< non-rigid ICP in steps of falling stiffness (internal::approach_curves_icp)
   nearest_vertices,  ///< the thin-plate field through the nearest template vertices (internal::approach_curves)
 };
+/// The name of an approach as the report writes it.
 inline const char* to_string(Approach a) {
   return a == Approach::icp ? "icp" : a == Approach::nearest_vertices ? "nearest_vertices" : "none";
 }
@@ -128,7 +129,7 @@ struct Deformation_report {
   /// set (template vertices, or network vertices and pairs for ICP), and the part of its motion
   /// applied (of the last step for ICP; 0: none).
   Approach approach = Approach::none;
-  std::size_t approach_constraints = 0;
+  std::size_t approach_constraints = 0;  ///< see `approach`
   double approach_scale = 0;  ///< the part of the approach motion applied (see approach_constraints)
   /// Steps 1-4 ran more than once (an earlier start left defects).
   bool approach_retried = false;
@@ -734,7 +735,7 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
   // curves by non-rigid ICP (internal::approach_curves_icp), by the thin-plate field through the
   // nearest template vertices (internal::approach_curves), and as it is. Each approach is made
   // from the coarse surface; when none is clean, the start with the fewest defects is kept (the
-  // earlier on a tie).
+  // earlier on a tie), unless the last one fails with a reason.
   // A polyline far from the coarse surface is refused before any approach pulls the surface to it.
   internal::check_polylines_near(tm, vpm, network);
   const Snapshot coarse = snapshot();
@@ -744,14 +745,19 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
   for (int start = 0; start < 3; ++start) {
     if (tried > 0) restore(coarse);
     internal::Approach_result approach;
-    if (start == 0) approach = internal::approach_curves_icp(tm, vpm, cut.network, cut_pairs);
+    // Curves more than twice as dense as the template: no approach will give them room (step 2
+    // refuses such inputs), and ICP would only move the template around.
+    if (start == 0 && cut.network.number_of_vertices() <= 2 * num_vertices(tm))
+      approach = internal::approach_curves_icp(tm, vpm, cut.network, cut_pairs);
     if (start == 1) approach = internal::approach_curves(tm, vpm, cut.network, cut_pairs);
     if (start < 2 && approach.scale == 0) continue;  // the approach made no motion: the same start as the last
     std::optional<Deformation_report> r;
     try {
       r = run();
     } catch (const Algorithm_failure&) {
-      if (start == 2 && !best) throw;
+      // The last start's reason (from the coarse surface as it is) is said rather than a result
+      // with defects kept.
+      if (start == 2) throw;
     }
     ++tried;
     if (!r) continue;

@@ -50,10 +50,10 @@ std::vector<Vector_3> interpolate_displacements(const Vertex_adjacency& adjacenc
 /// A soft constraint of fit_displacements: the displacement at a point of a face (its corners'
 /// displacements weighted by the point's barycentric coordinates) should be `target`.
 struct Soft_displacement {
-  std::array<std::size_t, 3> corners{};
-  std::array<double, 3> barycentric{};
-  Vector_3 target{0, 0, 0};
-  double weight = 1;
+  std::array<std::size_t, 3> corners{};      ///< the face's corners (vertex indices)
+  std::array<double, 3> barycentric{};      ///< the point's weights on them
+  Vector_3 target{0, 0, 0};                 ///< the displacement asked for there
+  double weight = 1;                        ///< the constraint's weight (not negative)
 };
 
 /// The displacement d minimising Σ weight·‖Σ_k barycentric_k d_{corner_k} − target‖² +
