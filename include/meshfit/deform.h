@@ -126,7 +126,7 @@ struct Deformation_report {
   /// the whole coarse surface (internal::tracked_projections).
   std::size_t projections_off_nearest = 0;
   /// The approach whose result was kept (deform_fine_on_surface, step 0), the constraints it
-  /// set (template vertices, or network vertices and pairs for ICP), and the part of its motion
+  /// set (template vertices; for ICP, network vertices), and the part of its motion
   /// applied (of the last step for ICP; 0: none).
   Approach approach = Approach::none;
   std::size_t approach_constraints = 0;  ///< see `approach`
