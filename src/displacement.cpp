@@ -32,6 +32,28 @@ class One_blas_thread {
   int m_threads;
 };
 
+using Sparse = Eigen::SparseMatrix<double>;
+
+// K = D − A, the symmetric graph Laplacian of the adjacency, and D⁻¹ (0 for an isolated vertex).
+Sparse graph_laplacian(const Vertex_adjacency& adj, Eigen::VectorXd& inverse_degree) {
+  const std::size_t n = adj.size();
+  std::vector<Eigen::Triplet<double>> t;
+  t.reserve(n + adj.neighbours.size());
+  inverse_degree.resize(static_cast<Eigen::Index>(n));
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t deg = adj.offsets[i + 1] - adj.offsets[i];
+    const auto ii = static_cast<Eigen::Index>(i);
+    inverse_degree(ii) = deg > 0 ? 1.0 / static_cast<double>(deg) : 0.0;
+    t.emplace_back(ii, ii, static_cast<double>(deg));
+    for (std::size_t k = adj.offsets[i]; k < adj.offsets[i + 1]; ++k)
+      t.emplace_back(ii, static_cast<Eigen::Index>(adj.neighbours[k]), -1.0);
+  }
+  const auto N = static_cast<Eigen::Index>(n);
+  Sparse K(N, N);
+  K.setFromTriplets(t.begin(), t.end());
+  return K;
+}
+
 // Whether each vertex's connected part holds a marked vertex.
 std::vector<bool> reaches(const Vertex_adjacency& adj, const std::vector<bool>& marked) {
   const std::size_t n = adj.size();
@@ -97,21 +119,8 @@ std::vector<Vector_3> interpolate_displacements(const Vertex_adjacency& adj, con
 
   // K = D − A, the symmetric graph Laplacian; the membrane energy is dᵀK d, the thin-plate one
   // dᵀ K D⁻¹ K d (the squared uniform Laplacian D⁻¹K d weighted by the degree).
-  using Sparse = Eigen::SparseMatrix<double>;
-  std::vector<Eigen::Triplet<double>> t;
-  t.reserve(n + adj.neighbours.size());
-  Eigen::VectorXd inverse_degree(static_cast<Eigen::Index>(n));
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::size_t deg = adj.offsets[i + 1] - adj.offsets[i];
-    const auto ii = static_cast<Eigen::Index>(i);
-    inverse_degree(ii) = deg > 0 ? 1.0 / static_cast<double>(deg) : 0.0;
-    t.emplace_back(ii, ii, static_cast<double>(deg));
-    for (std::size_t k = adj.offsets[i]; k < adj.offsets[i + 1]; ++k)
-      t.emplace_back(ii, static_cast<Eigen::Index>(adj.neighbours[k]), -1.0);
-  }
-  const auto N = static_cast<Eigen::Index>(n);
-  Sparse K(N, N);
-  K.setFromTriplets(t.begin(), t.end());
+  Eigen::VectorXd inverse_degree;
+  const Sparse K = graph_laplacian(adj, inverse_degree);
   Sparse Q = order == 1 ? K : Sparse(K * inverse_degree.asDiagonal() * K);
 
   // Q_FF x_F = −Q_FC d_C.
@@ -158,23 +167,11 @@ std::vector<Vector_3> fit_displacements(const Vertex_adjacency& adj, const std::
   const std::size_t n = adj.size();
   if (!(stiffness > 0) || !std::isfinite(stiffness))
     throw Invalid_input("displacement: the stiffness must be positive, not " + std::to_string(stiffness));
-  using Sparse = Eigen::SparseMatrix<double>;
-  std::vector<Eigen::Triplet<double>> t;
-  t.reserve(n + adj.neighbours.size());
-  Eigen::VectorXd inverse_degree(static_cast<Eigen::Index>(n));
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::size_t deg = adj.offsets[i + 1] - adj.offsets[i];
-    const auto ii = static_cast<Eigen::Index>(i);
-    inverse_degree(ii) = deg > 0 ? 1.0 / static_cast<double>(deg) : 0.0;
-    t.emplace_back(ii, ii, static_cast<double>(deg));
-    for (std::size_t k = adj.offsets[i]; k < adj.offsets[i + 1]; ++k)
-      t.emplace_back(ii, static_cast<Eigen::Index>(adj.neighbours[k]), -1.0);
-  }
+  Eigen::VectorXd inverse_degree;
+  const Sparse K = graph_laplacian(adj, inverse_degree);
   const auto N = static_cast<Eigen::Index>(n);
-  Sparse K(N, N);
-  K.setFromTriplets(t.begin(), t.end());
   Sparse A = stiffness * Sparse(K * inverse_degree.asDiagonal() * K);
-  t.clear();
+  std::vector<Eigen::Triplet<double>> t;
   Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(N, 3);
   for (const Soft_displacement& c : constraints) {
     for (std::size_t a = 0; a < 3; ++a)
