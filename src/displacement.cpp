@@ -165,7 +165,7 @@ std::vector<Vector_3> fit_displacements(const Vertex_adjacency& adj, const std::
                                         double stiffness) {
   internal::Fp_trap_scope traps;
   const std::size_t n = adj.size();
-  if (!(stiffness > 0) || !std::isfinite(stiffness))
+  if (!std::isfinite(stiffness) || !(stiffness > 0))
     throw Invalid_input("displacement: the stiffness must be positive, not " + std::to_string(stiffness));
   Eigen::VectorXd inverse_degree;
   const Sparse K = graph_laplacian(adj, inverse_degree);
@@ -178,7 +178,7 @@ std::vector<Vector_3> fit_displacements(const Vertex_adjacency& adj, const std::
       if (c.corners[a] >= n) throw Invalid_input("displacement: a constraint's corner " + std::to_string(c.corners[a]) + " is out of range");
     if (!(std::isfinite(c.target.x()) && std::isfinite(c.target.y()) && std::isfinite(c.target.z())))
       throw Invalid_input("displacement: a constraint's target is not finite");
-    if (!(c.weight >= 0 && std::isfinite(c.weight)) ||
+    if (!(std::isfinite(c.weight) && c.weight >= 0) ||
         !std::all_of(c.barycentric.begin(), c.barycentric.end(), [](double b) { return std::isfinite(b); }))
       throw Invalid_input("displacement: a constraint's weight must be finite and not negative, its coordinates finite");
     for (std::size_t a = 0; a < 3; ++a) {
