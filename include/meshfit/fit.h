@@ -409,7 +409,8 @@ Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& input_n
   const auto wvpm = get(CGAL::vertex_point, work);
 
   auto t = std::chrono::steady_clock::now();
-  report.deformation = deform_template(
+  // The stages work on `work` itself (their public forms would copy it again).
+  report.deformation = internal::deform_template_in_place(
       work, network, pairs,
       parameters::rbf_kernel(kernel)
           .curve_density(density)
@@ -428,7 +429,7 @@ Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& input_n
   t = std::chrono::steady_clock::now();
   auto curve = get(CGAL::dynamic_edge_property_t<bool>(), work);
   auto region = get(CGAL::dynamic_face_property_t<std::size_t>(), work);
-  report.partition = partition_mesh(
+  report.partition = internal::partition_mesh_in_place(
       work, network, parameters::progress(progress).edge_is_constrained_map(curve).face_patch_map(region));
   report.partition_seconds = internal::seconds_since(t);
   report.mesh_vertex_of_network_vertex = report.partition.mesh_vertex_of_network_vertex;
@@ -530,11 +531,7 @@ Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& input_n
       geometric_normal[k] = true;
   }
 
-  internal::Committed_elements<TriangleMesh> committed;
-  if constexpr (internal::Is_surface_mesh<TriangleMesh>::value)
-    committed = internal::commit_surface_mesh(work, result.points, tm, vpm);
-  else
-    committed = internal::commit_face_graph(result.points, result.triangles, tm, vpm);
+  const internal::Committed_elements<TriangleMesh> committed = internal::commit_work(work, result, tm, vpm);
   internal::put_patches_and_curves(result, tm, committed.vertex_of, committed.face_of, np);
   internal::put_extended_attribute<internal::Texture_channels>(texture_map, committed.vertex_of, nt, uvs);
   internal::put_extended_attribute<internal::Color_channels>(color_map, committed.vertex_of, nt, colors);

@@ -19,7 +19,10 @@
 #define MESHFIT_INTERNAL_COMMIT_RESULT_H
 
 #include <meshfit/exceptions.h>
+#include <meshfit/internal/stage_support.h>
+#include <meshfit/io.h>
 #include <meshfit/kernel.h>
+#include <meshfit/parameters.h>
 
 #include <CGAL/boost/graph/Euler_operations.h>
 #include <CGAL/boost/graph/helpers.h>
@@ -219,6 +222,77 @@ Committed_elements<TriangleMesh> commit_face_graph(const std::vector<Point_3>& p
       throw Algorithm_failure("fit", "a face of the result could not be added to the mesh");
   }
   return out;
+}
+
+/// Writes the result held by `work` (`result` = to_mesh_data(work, …)) into `tm` in place:
+/// commit_surface_mesh for a CGAL::Surface_mesh, commit_face_graph otherwise.
+template <typename TriangleMesh, typename VPM>
+Committed_elements<TriangleMesh> commit_work(const TriangleMesh& work, const Mesh_data& result, TriangleMesh& tm,
+                                             const VPM& vpm) {
+  if constexpr (Is_surface_mesh<TriangleMesh>::value)
+    return commit_surface_mesh(work, result.points, tm, vpm);
+  else
+    return commit_face_graph(result.points, result.triangles, tm, vpm);
+}
+
+/// `np` with `value` added for `Tag` in front: get_parameter finds the first of a tag from the
+/// front, so this hides a value `np` already has for it.
+template <typename Tag, typename T, typename NamedParameters>
+Named_parameters<T, Tag, NamedParameters> with_parameter(const T& value, const NamedParameters& np) {
+  return Named_parameters<T, Tag, NamedParameters>(value, np);
+}
+
+/// A stage run on a copy of the caller's mesh, so that a stage that throws (a cancel from the
+/// `progress` callback, Algorithm_failure, …) leaves the caller's mesh, its property maps and
+/// their values exactly as they were: `work` is `tm` rebuilt from its points (read through
+/// `vpm`) and triangles, vertex i and face f of `work` being the i-th vertex and f-th face of
+/// `tm`; commit() then writes `work` into `tm` in place (commit_work: Surface_mesh property maps
+/// and Polyhedron vertex handles kept).
+template <typename TriangleMesh, typename VPM>
+struct Stage_copy {
+  using vertex_descriptor = typename boost::graph_traits<TriangleMesh>::vertex_descriptor;
+
+  TriangleMesh& tm;
+  VPM vpm;
+  TriangleMesh work;
+  /// The vertices of `tm` and of `work`, in the order of vertices(tm): template_vertex[i] is
+  /// work_vertex[i].
+  std::vector<vertex_descriptor> template_vertex, work_vertex;
+
+  Stage_copy(TriangleMesh& m, const VPM& p) : tm(m), vpm(p) {
+    work_vertex = build_triangle_mesh(to_mesh_data(tm, CGAL::parameters::vertex_point_map(vpm)), work);
+    template_vertex.assign(vertices(tm).begin(), vertices(tm).end());
+  }
+
+  /// The map of `work` (a dynamic vertex property) holding the values of the caller's vertex map
+  /// `map` (all `fallback` when it is not given).
+  template <typename Value, typename Map>
+  auto vertex_map_from(const Map& map, const Value& fallback) {
+    auto out = get(CGAL::dynamic_vertex_property_t<Value>(), work);
+    for (std::size_t i = 0; i < work_vertex.size(); ++i) {
+      if constexpr (std::is_same_v<Map, CGAL::internal_np::Param_not_found>)
+        put(out, work_vertex[i], fallback);
+      else
+        put(out, work_vertex[i], Value(get(map, template_vertex[i])));
+    }
+    return out;
+  }
+
+  /// Writes `work` into `tm`; `result` is to_mesh_data(work, …).
+  Committed_elements<TriangleMesh> commit(const Mesh_data& result) { return commit_work(work, result, tm, vpm); }
+};
+
+/// Runs `stage(work, work_np)` on a Stage_copy of `tm` and commits the result when it returns:
+/// `work_np` is `np` with the copy's own vertex_point_map in front. For stages whose only
+/// parameter keyed by the mesh's elements is the vertex_point_map (deform's).
+template <typename TriangleMesh, typename NamedParameters, typename Stage>
+auto run_on_copy(TriangleMesh& tm, const NamedParameters& np, const Stage& stage) {
+  const auto vpm = vertex_point_map_of(tm, np);
+  Stage_copy<TriangleMesh, std::decay_t<decltype(vpm)>> copy(tm, vpm);
+  auto report = stage(copy.work, with_parameter<CGAL::internal_np::vertex_point_t>(
+                                     get_property_map(CGAL::vertex_point, copy.work), np));
+  copy.commit(to_mesh_data(copy.work));
+  return report;
 }
 
 }  // namespace internal

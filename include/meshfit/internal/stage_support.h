@@ -56,7 +56,7 @@ void report_progress(const Progress& progress, const char* stage, const char* st
                      std::size_t total) {
   if constexpr (!std::is_same_v<Progress, CGAL::internal_np::Param_not_found>) {
     if (!call_progress(progress, Progress_step{stage, step, index, total}))
-      throw Algorithm_failure(stage, "cancelled by the progress callback");
+      throw Cancelled(stage);
   }
 }
 
