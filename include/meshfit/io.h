@@ -54,6 +54,15 @@ struct Mesh_data {
   std::vector<std::array<std::size_t, 3>> triangles;   ///< corners as indices into points
   std::vector<int> face_patch;  ///< empty, or one region index per triangle
   std::vector<std::array<std::size_t, 2>> curve_edges;  ///< edges (pairs of vertex indices) on the curves
+  /// Empty, or the texture coordinates (u, v) of each vertex (OBJ `vt` used by every corner of the
+  /// vertex alike; PLY vertex properties `u v`, `s t`, `texture_u texture_v`, …).
+  std::vector<std::array<double, 2>> vertex_uvs;
+  /// Empty, or the normal of each vertex (OBJ `vn` used by every corner of the vertex alike; PLY
+  /// `nx ny nz`), as the file gives it (not normalised).
+  std::vector<std::array<double, 3>> vertex_normals;
+  /// Empty, or the colour of each vertex, red, green, blue, alpha in [0, 1] (OBJ `v x y z r g b`;
+  /// PLY `red green blue [alpha]`, integers scaled by 1/255, or floats as they are).
+  std::vector<std::array<double, 4>> vertex_colors;
 };
 
 /// What reading a mesh found besides the mesh itself.
