@@ -7,6 +7,7 @@
 #include <meshfit/io.h>
 
 #include <CGAL/Polyhedron_3.h>
+#include <CGAL/Simple_cartesian.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/boost/graph/graph_traits_Polyhedron_3.h>
 #include <CGAL/boost/graph/properties_Polyhedron_3.h>
@@ -769,5 +770,60 @@ TEMPLATE_TEST_CASE("stages: a completed partition is written into the caller's m
     std::vector<Point_2> uv_after;
     for (V v : tm.vertices()) uv_after.push_back(uv[v]);
     CHECK(uv_after == uv_before);
+  }
+}
+
+// ---- kernels: any Cartesian kernel over double --------------------------------------------------
+
+TEST_CASE("kernels: a Simple_cartesian<double> Surface_mesh goes through every stage with Epick's coordinates",
+          "[fit][caller_data][kernel]") {
+  using SC = CGAL::Simple_cartesian<double>;
+  using SC_mesh = CGAL::Surface_mesh<SC::Point_3>;
+  Mesh epick;
+  const Network_and_pairs in = example(epick);
+  SC_mesh sc;
+  meshfit::build_triangle_mesh(meshfit::to_mesh_data(epick), sc);
+  // The oracle: the same calls on the Epick mesh; meshfit reads and writes the coordinates as
+  // doubles, so the results are the same numbers.
+  auto same = [](const Mesh& a, const SC_mesh& b) {
+    const meshfit::Mesh_data da = meshfit::to_mesh_data(a), db = meshfit::to_mesh_data(b);
+    return da.points == db.points && da.triangles == db.triangles;
+  };
+  const Mesh epick_template = epick;
+  const SC_mesh sc_template = sc;
+  namespace mp = meshfit::parameters;
+  meshfit::deform_template(epick, in.network, in.pairs, mp::fine_level(meshfit::Fine_level::thesis));
+  meshfit::deform_template(sc, in.network, in.pairs,
+                           mp::fine_level(meshfit::Fine_level::thesis).geom_traits(SC()));
+  CHECK(same(epick, sc));
+  auto epick_curve = get(CGAL::dynamic_edge_property_t<bool>(), epick);
+  auto sc_curve = get(CGAL::dynamic_edge_property_t<bool>(), sc);
+  const auto pe = meshfit::partition_mesh(epick, in.network, CGAL::parameters::edge_is_constrained_map(epick_curve));
+  const auto ps = meshfit::partition_mesh(sc, in.network, CGAL::parameters::edge_is_constrained_map(sc_curve));
+  CHECK(pe.by_walk + pe.by_fallback > 0);
+  CHECK(ps.curve_edges == pe.curve_edges);
+  CHECK(same(epick, sc));
+  meshfit::smooth_fitted_mesh(epick, mp::default_values().number_of_iterations(10).edge_is_constrained_map(epick_curve));
+  meshfit::smooth_fitted_mesh(sc, mp::default_values().number_of_iterations(10).edge_is_constrained_map(sc_curve));
+  CHECK(same(epick, sc));
+
+  Mesh epick_fit = epick_template;
+  SC_mesh sc_fit = sc_template;
+  auto sc_uv = sc_fit.add_property_map<SC_mesh::Vertex_index, SC::Point_2>("v:uv").first;
+  for (auto v : sc_fit.vertices()) sc_uv[v] = SC::Point_2(sc_fit.point(v).x(), sc_fit.point(v).y());
+  const auto re = meshfit::fit_template_to_curves(epick_fit, in.network, in.pairs, mp::default_values().number_of_iterations(10));
+  const auto rs = meshfit::fit_template_to_curves(sc_fit, in.network, in.pairs,
+                                                  mp::default_values().number_of_iterations(10).geom_traits(SC()).vertex_texture_map(sc_uv));
+  CHECK(rs.verification.passed());
+  CHECK(rs.vertices == re.vertices);
+  CHECK(same(epick_fit, sc_fit));
+  // The template's vertices keep their UVs; the added ones get finite values.
+  std::size_t i = 0;
+  for (auto v : sc_fit.vertices()) {
+    if (i < sc_template.number_of_vertices())
+      CHECK(sc_uv[v] == SC::Point_2(sc_template.point(v).x(), sc_template.point(v).y()));
+    else
+      CHECK((std::isfinite(sc_uv[v].x()) && std::isfinite(sc_uv[v].y())));
+    ++i;
   }
 }

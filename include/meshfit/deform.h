@@ -189,50 +189,11 @@ inline std::string remaining_flips_message(const Deformation_report& r) {
 namespace meshfit {
 
 
-/// Coarse level: moves every vertex of `tm` with the RBF interpolant through the user's `pairs`
-/// (template vertex position → network vertex). Vertex i is the i-th of vertices(tm).
-/// The orientation is the sign of the RBF's affine part; on an open template that faces one way
-/// (a disc, a patch) it is the pairs' layout along the template that decides it, not how their
-/// heights across it correlate (Rbf_interpolant::fit with `orientation_from_layout`).
-/// \tparam TriangleMesh a model of `MutableFaceGraph` (tested: CGAL::Surface_mesh, CGAL::Polyhedron_3)
-/// \tparam NamedParameters a sequence of named parameters (CGAL's or meshfit's)
-/// \param tm the template, moved in place
-/// \param network the curve network
-/// \param pairs the user's pairs: template vertex i (the i-th of `vertices(tm)`) → network vertex
-/// \param np an optional sequence of named parameters among the ones listed below
-/// \return the coarse figures (coarse_fit, coarse_flipped_faces, orientation_reversed, …);
-///         `mesh_vertex_of_network_vertex` holds the user's pairs only
-///
-/// \cgalNamedParamsBegin
-///   \cgalParamNBegin{vertex_point_map}
-///     \cgalParamDescription{a property map associating points to the vertices of `tm`}
-///     \cgalParamType{a class model of `ReadWritePropertyMap` with
-///       `boost::graph_traits<TriangleMesh>::%vertex_descriptor` as key type and
-///       meshfit::Point_3 as value type}
-///     \cgalParamDefault{`boost::get(CGAL::vertex_point, tm)`}
-///     \cgalParamExtra{If this parameter is omitted, an internal property map for `CGAL::vertex_point_t` must be
-///       available in `TriangleMesh`.}
-///   \cgalParamNEnd
-///   \cgalParamNBegin{rbf_kernel}
-///     \cgalParamDescription{the basis function φ of the coarse interpolant (rbf.h)}
-///     \cgalParamType{meshfit::Rbf_kernel}
-///     \cgalParamDefault{`meshfit::Rbf_kernel::linear` (φ(r) = r)}
-///   \cgalParamNEnd
-///   \cgalParamNBegin{progress}
-///     \cgalParamDescription{a callback called at each step with a meshfit::Progress_step (stage `"deform"`)}
-///     \cgalParamType{a callable taking `const meshfit::Progress_step&` and returning `bool` (`false` cancels) or
-///       `void` (never cancels)}
-///     \cgalParamDefault{none: no calls, no cancelling}
-///     \cgalParamExtra{When it returns `false`, the stage throws meshfit::Algorithm_failure.}
-///   \cgalParamNEnd
-/// \cgalNamedParamsEnd
-///
-/// \throws Invalid_input for pairs out of range or an RBF that they cannot define (see
-///         Rbf_interpolant::fit); Numerical_error when the solve fails.
-template <typename TriangleMesh, typename NamedParameters = CGAL::parameters::Default_named_parameters>
-Deformation_report deform_coarse(TriangleMesh& tm, const Curve_network& network,
-                                 const std::vector<Correspondence>& pairs,
-                                 const NamedParameters& np = CGAL::parameters::default_values()) {
+namespace internal {
+/// deform_coarse on `tm` itself. For meshes the pipeline owns (a Stage_copy, fit's copy).
+template <typename TriangleMesh, typename NamedParameters>
+Deformation_report deform_coarse_in_place(TriangleMesh& tm, const Curve_network& network,
+                                          const std::vector<Correspondence>& pairs, const NamedParameters& np) {
   using CGAL::parameters::choose_parameter;
   using CGAL::parameters::get_parameter;
   const auto t0 = std::chrono::steady_clock::now();
@@ -292,6 +253,59 @@ Deformation_report deform_coarse(TriangleMesh& tm, const Curve_network& network,
   report.mesh_vertex_of_network_vertex.assign(network.number_of_vertices(), Closest_point_assignment::unassigned);
   for (const Correspondence& c : pairs) report.mesh_vertex_of_network_vertex[c.network_vertex] = c.template_vertex;
   return report;
+}
+}  // namespace internal
+
+/// Coarse level: moves every vertex of `tm` with the RBF interpolant through the user's `pairs`
+/// (template vertex position → network vertex). Vertex i is the i-th of vertices(tm).
+/// The orientation is the sign of the RBF's affine part; on an open template that faces one way
+/// (a disc, a patch) it is the pairs' layout along the template that decides it, not how their
+/// heights across it correlate (Rbf_interpolant::fit with `orientation_from_layout`).
+/// The work is done on a copy of `tm` and written into it when complete, as by deform_template.
+/// \tparam TriangleMesh a model of `MutableFaceGraph` (tested: CGAL::Surface_mesh, CGAL::Polyhedron_3) whose
+///         points have double Cartesian coordinates (any Cartesian kernel over double, e.g. Epick,
+///         Simple_cartesian<double>; an exact kernel is refused at compile time)
+/// \tparam NamedParameters a sequence of named parameters (CGAL's or meshfit's)
+/// \param tm the template, moved in place
+/// \param network the curve network
+/// \param pairs the user's pairs: template vertex i (the i-th of `vertices(tm)`) → network vertex
+/// \param np an optional sequence of named parameters among the ones listed below
+/// \return the coarse figures (coarse_fit, coarse_flipped_faces, orientation_reversed, …);
+///         `mesh_vertex_of_network_vertex` holds the user's pairs only
+///
+/// \cgalNamedParamsBegin
+///   \cgalParamNBegin{vertex_point_map}
+///     \cgalParamDescription{a property map associating points to the vertices of `tm`}
+///     \cgalParamType{a class model of `ReadWritePropertyMap` with
+///       `boost::graph_traits<TriangleMesh>::%vertex_descriptor` as key type and
+///       meshfit::Point_3 as value type}
+///     \cgalParamDefault{`boost::get(CGAL::vertex_point, tm)`}
+///     \cgalParamExtra{If this parameter is omitted, an internal property map for `CGAL::vertex_point_t` must be
+///       available in `TriangleMesh`.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{rbf_kernel}
+///     \cgalParamDescription{the basis function φ of the coarse interpolant (rbf.h)}
+///     \cgalParamType{meshfit::Rbf_kernel}
+///     \cgalParamDefault{`meshfit::Rbf_kernel::linear` (φ(r) = r)}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{progress}
+///     \cgalParamDescription{a callback called at each step with a meshfit::Progress_step (stage `"deform"`)}
+///     \cgalParamType{a callable taking `const meshfit::Progress_step&` and returning `bool` (`false` cancels) or
+///       `void` (never cancels)}
+///     \cgalParamDefault{none: no calls, no cancelling}
+///     \cgalParamExtra{When it returns `false`, the stage throws meshfit::Algorithm_failure.}
+///   \cgalParamNEnd
+/// \cgalNamedParamsEnd
+///
+/// \throws Invalid_input for pairs out of range or an RBF that they cannot define (see
+///         Rbf_interpolant::fit); Numerical_error when the solve fails.
+template <typename TriangleMesh, typename NamedParameters = CGAL::parameters::Default_named_parameters>
+Deformation_report deform_coarse(TriangleMesh& tm, const Curve_network& network,
+                                 const std::vector<Correspondence>& pairs,
+                                 const NamedParameters& np = CGAL::parameters::default_values()) {
+  return internal::run_on_copy(tm, np, [&](internal::Work_mesh& work, const auto& work_np) {
+    return internal::deform_coarse_in_place(work, network, pairs, work_np);
+  });
 }
 
 namespace internal {
@@ -487,7 +501,9 @@ Deformation_report deform_fine_in_place(TriangleMesh& tm, const Curve_network& n
 /// they were; on success the result is written into `tm` in place, as fit_template_to_curves does
 /// (a CGAL::Surface_mesh keeps its property maps with their values on the template's vertices, a
 /// CGAL::Polyhedron_3 its vertex handles; vertices added follow the template's).
-/// \tparam TriangleMesh a model of `MutableFaceGraph` (tested: CGAL::Surface_mesh, CGAL::Polyhedron_3)
+/// \tparam TriangleMesh a model of `MutableFaceGraph` (tested: CGAL::Surface_mesh, CGAL::Polyhedron_3) whose
+///         points have double Cartesian coordinates (any Cartesian kernel over double, e.g. Epick,
+///         Simple_cartesian<double>; an exact kernel is refused at compile time)
 /// \tparam NamedParameters a sequence of named parameters (CGAL's or meshfit's)
 /// \param tm the template, moved in place
 /// \param network the curve network
@@ -546,7 +562,7 @@ template <typename TriangleMesh, typename NamedParameters = CGAL::parameters::De
 Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
                                const std::vector<Correspondence>& pairs,
                                const NamedParameters& np = CGAL::parameters::default_values()) {
-  return internal::run_on_copy(tm, np, [&](TriangleMesh& work, const auto& work_np) {
+  return internal::run_on_copy(tm, np, [&](internal::Work_mesh& work, const auto& work_np) {
     return internal::deform_fine_in_place(work, network, pairs, work_np);
   });
 }
@@ -725,7 +741,9 @@ Deformation_report deform_fine_on_surface_in_place(TriangleMesh& tm, const Curve
 /// they were; on success the result is written into `tm` in place, as fit_template_to_curves does
 /// (a CGAL::Surface_mesh keeps its property maps with their values on the template's vertices, a
 /// CGAL::Polyhedron_3 its vertex handles; vertices added follow the template's).
-/// \tparam TriangleMesh a model of `MutableFaceGraph` (tested: CGAL::Surface_mesh, CGAL::Polyhedron_3)
+/// \tparam TriangleMesh a model of `MutableFaceGraph` (tested: CGAL::Surface_mesh, CGAL::Polyhedron_3) whose
+///         points have double Cartesian coordinates (any Cartesian kernel over double, e.g. Epick,
+///         Simple_cartesian<double>; an exact kernel is refused at compile time)
 /// \tparam NamedParameters a sequence of named parameters (CGAL's or meshfit's)
 /// \param tm the template, moved in place
 /// \param network the curve network
@@ -772,7 +790,7 @@ template <typename TriangleMesh, typename NamedParameters = CGAL::parameters::De
 Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network& network,
                                           const std::vector<Correspondence>& pairs,
                                           const NamedParameters& np = CGAL::parameters::default_values()) {
-  return internal::run_on_copy(tm, np, [&](TriangleMesh& work, const auto& work_np) {
+  return internal::run_on_copy(tm, np, [&](internal::Work_mesh& work, const auto& work_np) {
     return internal::deform_fine_on_surface_in_place(work, network, pairs, work_np);
   });
 }
@@ -802,7 +820,7 @@ Deformation_report deform_template_unscaled(TriangleMesh& tm, const Curve_networ
       ++subdivisions;
     }
   }
-  Deformation_report coarse = deform_coarse(tm, network, pairs, np);
+  Deformation_report coarse = deform_coarse_in_place(tm, network, pairs, np);
   coarse.template_subdivisions = subdivisions;
   if (coarse.orientation_reversed || coarse_only) return coarse;
   if (surface_refined) refuse_oversampled_curves(tm, vertex_point_map_of(tm, np), network, subdivisions);
@@ -860,7 +878,9 @@ Deformation_report deform_template_in_place(TriangleMesh& tm, const Curve_networ
 /// they were; on success the result is written into `tm` in place, as fit_template_to_curves does
 /// (a CGAL::Surface_mesh keeps its property maps with their values on the template's vertices, a
 /// CGAL::Polyhedron_3 its vertex handles; vertices added follow the template's).
-/// \tparam TriangleMesh a model of `MutableFaceGraph` (tested: CGAL::Surface_mesh, CGAL::Polyhedron_3)
+/// \tparam TriangleMesh a model of `MutableFaceGraph` (tested: CGAL::Surface_mesh, CGAL::Polyhedron_3) whose
+///         points have double Cartesian coordinates (any Cartesian kernel over double, e.g. Epick,
+///         Simple_cartesian<double>; an exact kernel is refused at compile time)
 /// \tparam NamedParameters a sequence of named parameters (CGAL's or meshfit's)
 /// \param tm the template, moved in place
 /// \param network the curve network
@@ -928,7 +948,7 @@ template <typename TriangleMesh, typename NamedParameters = CGAL::parameters::De
 Deformation_report deform_template(TriangleMesh& tm, const Curve_network& network,
                                    const std::vector<Correspondence>& pairs,
                                    const NamedParameters& np = CGAL::parameters::default_values()) {
-  return internal::run_on_copy(tm, np, [&](TriangleMesh& work, const auto& work_np) {
+  return internal::run_on_copy(tm, np, [&](internal::Work_mesh& work, const auto& work_np) {
     return internal::deform_template_in_place(work, network, pairs, work_np);
   });
 }

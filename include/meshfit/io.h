@@ -291,9 +291,11 @@ build_triangle_mesh(const Mesh_data& mesh, TriangleMesh& tm,
                         std::to_string(mesh.triangles.size()) + " triangles");
   internal::clear_mesh(tm);
   std::vector<vertex_descriptor> vertex_of(mesh.points.size());
+  using P = typename boost::property_traits<decltype(vpm)>::value_type;
   for (std::size_t i = 0; i < mesh.points.size(); ++i) {
     vertex_of[i] = add_vertex(tm);
-    put(vpm, vertex_of[i], mesh.points[i]);
+    const Point_3& p = mesh.points[i];
+    put(vpm, vertex_of[i], P(p.x(), p.y(), p.z()));  // any point type with double coordinates
   }
   std::vector<face_descriptor> face_of(mesh.triangles.size());
   for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {

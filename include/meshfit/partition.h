@@ -744,7 +744,9 @@ Partition_report partition_mesh_in_place(TriangleMesh& tm, const Curve_network& 
 /// CGAL::Surface_mesh keeps its property maps, with their values on every vertex and on the edges
 /// and faces no flip replaced; a CGAL::Polyhedron_3 keeps its vertex handles, its faces and
 /// halfedges are made anew), and the output maps are written after that.
-/// \tparam TriangleMesh a model of `MutableFaceGraph` (tested: CGAL::Surface_mesh, CGAL::Polyhedron_3)
+/// \tparam TriangleMesh a model of `MutableFaceGraph` (tested: CGAL::Surface_mesh, CGAL::Polyhedron_3) whose
+///         points have double Cartesian coordinates (any Cartesian kernel over double, e.g. Epick,
+///         Simple_cartesian<double>; an exact kernel is refused at compile time)
 /// \tparam NamedParameters a sequence of named parameters (CGAL's or meshfit's)
 /// \param tm the mesh, whose vertices include the network's (as deform_template leaves it)
 /// \param network the curve network
