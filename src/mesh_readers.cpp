@@ -5,9 +5,13 @@
 #include "text_parser.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <cstring>
 #include <map>
+#include <string>
 #include <tuple>
+#include <type_traits>
+#include <vector>
 
 namespace meshfit {
 namespace internal {
@@ -119,6 +123,29 @@ Polygon_soup parse_obj_impl(std::string_view text, const std::string& name) {
   // check once all vertices are known, with the line of the face that used them.
   bool has_regions = false;
   int region = -1;
+  // Texture coordinates and normals are indexed per corner; meshfit keeps them per vertex when
+  // every corner of each vertex that uses one names the same (`vt`/`vn` index, or equal values).
+  std::vector<std::array<double, 2>> texcoords;
+  std::vector<std::array<double, 3>> normals;
+  std::vector<std::array<double, 4>> colours;  // of the vertices (`v x y z r g b`)
+  std::size_t coloured = 0;
+  struct Corner_refs {
+    std::size_t vertex;
+    std::int64_t vt, vn;  // 0: none; negative: relative, resolved when read
+    std::size_t line;
+  };
+  std::vector<Corner_refs> corner_refs;
+  auto attribute_index = [&](std::string_view index, std::size_t count, const char* what) -> std::int64_t {
+    if (index.empty()) return 0;
+    const std::int64_t i = in.to_signed(index, what);
+    if (i == 0) in.fail(std::string(what) + " 0: OBJ indices start at 1");
+    if (i < 0) {
+      const std::uint64_t back = static_cast<std::uint64_t>(-(i + 1)) + 1;
+      if (back > count) in.fail(std::string(what) + " " + quote(index) + " refers before the first one");
+      return static_cast<std::int64_t>(count - back) + 1;
+    }
+    return i;
+  };
 
   auto resolve = [&](std::string_view token, const char* what) -> std::size_t {
     const std::string_view index = token.substr(0, token.find('/'));
@@ -143,15 +170,37 @@ Polygon_soup parse_obj_impl(std::string_view text, const std::string& name) {
       soup.points.emplace_back(in.to_double(t[1], "x coordinate"),
                                in.to_double(t[2], "y coordinate"),
                                in.to_double(t[3], "z coordinate"));
-      for (std::size_t k = 4; k < t.size(); ++k) in.to_double(t[k], "vertex attribute");
+      double extra[3] = {0, 0, 0};
+      for (std::size_t k = 4; k < t.size(); ++k) extra[k - 4] = in.to_double(t[k], "vertex attribute");
       if (t.size() == 5) soup.drop("vertex weights (v x y z w)");
-      if (t.size() >= 7) soup.drop("vertex colours (v x y z r g b)");
+      if (t.size() == 7) {
+        colours.resize(soup.points.size());
+        colours.back() = {extra[0], extra[1], extra[2], 1.0};
+        ++coloured;
+      }
     } else if (key == "vt") {
-      soup.drop("texture coordinates (vt)");
+      if (t.size() < 2 || t.size() > 4) in.fail("expected 'vt u [v [w]]'");
+      texcoords.push_back({in.to_double(t[1], "texture coordinate u"),
+                           t.size() > 2 ? in.to_double(t[2], "texture coordinate v") : 0.0});
+      if (t.size() > 3) in.to_double(t[3], "texture coordinate w");
     } else if (key == "vn") {
-      soup.drop("vertex normals (vn)");
+      if (t.size() != 4) in.fail("expected 'vn x y z'");
+      normals.push_back({in.to_double(t[1], "normal x"), in.to_double(t[2], "normal y"), in.to_double(t[3], "normal z")});
     } else if (key == "f") {
-      for (std::size_t k = 1; k < t.size(); ++k) soup.corners.push_back(resolve(t[k], "vertex index"));
+      for (std::size_t k = 1; k < t.size(); ++k) {
+        soup.corners.push_back(resolve(t[k], "vertex index"));
+        // v, v/vt, v//vn or v/vt/vn
+        const std::string_view tok = t[k];
+        const std::size_t s1 = tok.find('/');
+        std::string_view vt, vn;
+        if (s1 != std::string_view::npos) {
+          const std::size_t s2 = tok.find('/', s1 + 1);
+          vt = tok.substr(s1 + 1, s2 == std::string_view::npos ? std::string_view::npos : s2 - s1 - 1);
+          if (s2 != std::string_view::npos) vn = tok.substr(s2 + 1);
+        }
+        corner_refs.push_back({soup.corners.back(), attribute_index(vt, texcoords.size(), "texture coordinate index"),
+                               attribute_index(vn, normals.size(), "normal index"), in.line_number()});
+      }
       soup.end_polygon(in.line_number());
       soup.polygon_patch.push_back(region);
     } else if (key == "l") {
@@ -177,6 +226,38 @@ Polygon_soup parse_obj_impl(std::string_view text, const std::string& name) {
     }
   }
   if (!has_regions) soup.polygon_patch.clear();
+
+  if (coloured > 0 && coloured == soup.points.size())
+    soup.vertex_colors = std::move(colours);
+  else if (coloured > 0)
+    soup.drop("vertex colours (v x y z r g b), not on every vertex");
+  // Per vertex when every corner of a vertex names the same values (a seam gives a vertex two).
+  auto per_vertex = [&](const auto& values, auto index_of, auto& out, const char* what) {
+    using Value = typename std::decay_t<decltype(values)>::value_type;
+    if (values.empty()) return;
+    std::vector<Value> v(soup.points.size());
+    std::vector<char> seen(soup.points.size(), 0);
+    bool ok = true;
+    for (const Corner_refs& c : corner_refs) {
+      const std::int64_t i = index_of(c);
+      if (i > static_cast<std::int64_t>(values.size()))
+        throw Invalid_input(Input_location::at_line(name, c.line),
+                            std::string(what) + " index " + std::to_string(i) + " refers past the last one (" +
+                                std::to_string(values.size()) + ")");
+      if (i == 0 || c.vertex >= v.size()) {
+        ok = false;
+        continue;
+      }
+      const Value& value = values[static_cast<std::size_t>(i - 1)];
+      if (seen[c.vertex] && v[c.vertex] != value) ok = false;
+      v[c.vertex] = value;
+      seen[c.vertex] = 1;
+    }
+    if (ok) out = std::move(v);
+    else soup.drop(std::string(what) + "s (" + (what[0] == 't' ? "vt" : "vn") + "), not one per vertex");
+  };
+  per_vertex(texcoords, [](const Corner_refs& c) { return c.vt; }, soup.vertex_uvs, "texture coordinate");
+  per_vertex(normals, [](const Corner_refs& c) { return c.vn; }, soup.vertex_normals, "normal");
   return soup;
 }
 

@@ -98,6 +98,9 @@ Mesh_data validate_polygon_soup(const Polygon_soup& soup, Mesh_read_report* repo
                  file, "the mesh");
   Mesh_data mesh;
   mesh.points = soup.points;
+  mesh.vertex_uvs = soup.vertex_uvs;
+  mesh.vertex_normals = soup.vertex_normals;
+  mesh.vertex_colors = soup.vertex_colors;
   std::vector<std::size_t> source;  // polygon of each triangle
   std::size_t triangulated = 0;
   std::vector<std::size_t> sorted;

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -149,6 +150,23 @@ void check_indices(const Mesh_data& mesh) {
   for (const Point_3& p : mesh.points)
     if (!std::isfinite(p.x()) || !std::isfinite(p.y()) || !std::isfinite(p.z()))
       throw Invalid_input("the mesh has a non-finite coordinate: refusing to write it");
+  auto check_attribute = [&](const auto& values, const char* what) {
+    if (values.empty()) return;
+    if (values.size() != n)
+      throw Invalid_input(std::string(what) + " has " + std::to_string(values.size()) + " entries for " +
+                          std::to_string(n) + " vertices");
+    for (const auto& a : values)
+      for (double c : a)
+        if (!std::isfinite(c)) throw Invalid_input(std::string("the mesh has a non-finite value in ") + what);
+  };
+  check_attribute(mesh.vertex_uvs, "vertex_uvs");
+  check_attribute(mesh.vertex_normals, "vertex_normals");
+  check_attribute(mesh.vertex_colors, "vertex_colors");
+}
+
+// A colour channel in [0, 1] as a byte (PLY `uchar red`, …).
+std::uint8_t colour_byte(double c) {
+  return static_cast<std::uint8_t>(std::lround(std::clamp(c, 0.0, 1.0) * 255));
 }
 
 void write_off(std::ostream& os, const Mesh_data& mesh) {
@@ -162,7 +180,26 @@ void write_obj(std::ostream& os, const Mesh_data& mesh, bool curves_in_mesh) {
   Number_writer w(os);
   w << (curves_in_mesh ? "# written by meshfit: faces grouped by region (g region_<k>), curve edges as l\n"
                        : "# written by meshfit: faces grouped by region (g region_<k>)\n");
-  for (const Point_3& p : mesh.points) w << "v " << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
+  // Vertex colours as `v x y z r g b` (the common extension); texture coordinates and normals one
+  // per vertex, `vt`/`vn` k being vertex k's, so that every corner is `v/v/v`.
+  const bool uvs = !mesh.vertex_uvs.empty(), normals = !mesh.vertex_normals.empty(),
+             colours = !mesh.vertex_colors.empty();
+  for (std::size_t i = 0; i < mesh.points.size(); ++i) {
+    const Point_3& p = mesh.points[i];
+    w << "v " << p.x() << ' ' << p.y() << ' ' << p.z();
+    if (colours) w << ' ' << mesh.vertex_colors[i][0] << ' ' << mesh.vertex_colors[i][1] << ' ' << mesh.vertex_colors[i][2];
+    w << '\n';
+  }
+  if (uvs)
+    for (const auto& t : mesh.vertex_uvs) w << "vt " << t[0] << ' ' << t[1] << '\n';
+  if (normals)
+    for (const auto& n : mesh.vertex_normals) w << "vn " << n[0] << ' ' << n[1] << ' ' << n[2] << '\n';
+  auto corner = [&](std::size_t v) {
+    w << v + 1;
+    if (uvs || normals) w << '/';
+    if (uvs) w << v + 1;
+    if (normals) w << '/' << v + 1;
+  };
   // One group per region, in increasing region order (faces of a region keep their order), as
   // DESIGN.md fixes; so the faces of an OBJ come back grouped, not in the mesh's face order.
   std::vector<std::size_t> order(mesh.triangles.size());
@@ -180,7 +217,13 @@ void write_obj(std::ostream& os, const Mesh_data& mesh, bool curves_in_mesh) {
     }
     first = false;
     const auto& t = mesh.triangles[f];
-    w << "f " << t[0] + 1 << ' ' << t[1] + 1 << ' ' << t[2] + 1 << '\n';
+    w << "f ";
+    corner(t[0]);
+    w << ' ';
+    corner(t[1]);
+    w << ' ';
+    corner(t[2]);
+    w << '\n';
   }
   if (curves_in_mesh)
     for (const auto& e : mesh.curve_edges) w << "l " << e[0] + 1 << ' ' << e[1] + 1 << '\n';
@@ -201,8 +244,13 @@ void write_ply(std::ostream& os, const Mesh_data& mesh, Ply_encoding encoding, b
   w << "ply\nformat " << (encoding == Ply_encoding::ascii ? "ascii" : "binary_little_endian")
     << " 1.0\ncomment written by meshfit\n"
     << "element vertex " << mesh.points.size()
-    << "\nproperty double x\nproperty double y\nproperty double z\n"
-    << "element face " << mesh.triangles.size() << "\nproperty list uchar int vertex_indices\n";
+    << "\nproperty double x\nproperty double y\nproperty double z\n";
+  const bool uvs = !mesh.vertex_uvs.empty(), normals = !mesh.vertex_normals.empty(),
+             colours = !mesh.vertex_colors.empty();
+  if (uvs) w << "property double u\nproperty double v\n";
+  if (normals) w << "property double nx\nproperty double ny\nproperty double nz\n";
+  if (colours) w << "property uchar red\nproperty uchar green\nproperty uchar blue\nproperty uchar alpha\n";
+  w << "element face " << mesh.triangles.size() << "\nproperty list uchar int vertex_indices\n";
   if (patches) w << "property int patch_id\n";
   // No empty element (meshio refuses `element edge 0`); the flag tells curve edges from a list of
   // every edge, which is what CGAL's write_PLY writes.
@@ -212,7 +260,15 @@ void write_ply(std::ostream& os, const Mesh_data& mesh, Ply_encoding encoding, b
       << "\nproperty int vertex1\nproperty int vertex2\nproperty int curve\n";
   w << "end_header\n";
   if (encoding == Ply_encoding::ascii) {
-    for (const Point_3& p : mesh.points) w << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
+    for (std::size_t i = 0; i < mesh.points.size(); ++i) {
+      const Point_3& p = mesh.points[i];
+      w << p.x() << ' ' << p.y() << ' ' << p.z();
+      if (uvs) w << ' ' << mesh.vertex_uvs[i][0] << ' ' << mesh.vertex_uvs[i][1];
+      if (normals) w << ' ' << mesh.vertex_normals[i][0] << ' ' << mesh.vertex_normals[i][1] << ' ' << mesh.vertex_normals[i][2];
+      if (colours)
+        for (double c : mesh.vertex_colors[i]) w << ' ' << int(colour_byte(c));
+      w << '\n';
+    }
     for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
       const auto& t = mesh.triangles[f];
       w << "3 " << t[0] << ' ' << t[1] << ' ' << t[2];
@@ -223,10 +279,17 @@ void write_ply(std::ostream& os, const Mesh_data& mesh, Ply_encoding encoding, b
       for (const auto& e : mesh.curve_edges) w << e[0] << ' ' << e[1] << " 1\n";
     return;
   }
-  for (const Point_3& p : mesh.points) {
+  for (std::size_t i = 0; i < mesh.points.size(); ++i) {
+    const Point_3& p = mesh.points[i];
     put_le<double>(os, p.x());
     put_le<double>(os, p.y());
     put_le<double>(os, p.z());
+    if (uvs)
+      for (double c : mesh.vertex_uvs[i]) put_le<double>(os, c);
+    if (normals)
+      for (double c : mesh.vertex_normals[i]) put_le<double>(os, c);
+    if (colours)
+      for (double c : mesh.vertex_colors[i]) put_le<std::uint8_t>(os, colour_byte(c));
   }
   for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
     put_le<std::uint8_t>(os, 3);

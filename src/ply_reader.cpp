@@ -50,7 +50,9 @@ struct Ply_property {
 };
 
 // What a property means to meshfit.
-enum class Role { none, x, y, z, face_indices, patch_id, edge_v1, edge_v2, curve_flag };
+enum class Role { none, x, y, z, face_indices, patch_id, edge_v1, edge_v2, curve_flag,
+                  u, v, nx, ny, nz, red, green, blue, alpha };
+
 
 struct Ply_element {
   std::string name;
@@ -59,6 +61,34 @@ struct Ply_element {
   std::vector<Ply_property> properties;
   std::vector<Role> roles;
 };
+
+// The vertex attributes meshfit keeps (Mesh_data::vertex_uvs, …): a complete set only (both
+// texture coordinates of one naming, the three normal components, red green blue), else they
+// stay Role::none and are reported as dropped.
+void assign_attribute_roles(Ply_element& e) {
+  auto find = [&](const char* name) -> std::size_t {
+    for (std::size_t k = 0; k < e.properties.size(); ++k)
+      if (!e.properties[k].is_list && e.roles[k] == Role::none && e.properties[k].name == name) return k;
+    return e.properties.size();
+  };
+  auto assign = [&](std::initializer_list<std::pair<const char*, Role>> set) {
+    std::vector<std::size_t> at;
+    for (const auto& [name, role] : set) at.push_back(find(name));
+    for (std::size_t k : at)
+      if (k == e.properties.size()) return false;
+    std::size_t i = 0;
+    for (const auto& [name, role] : set) e.roles[at[i++]] = role;
+    return true;
+  };
+  (void)(assign({{"u", Role::u}, {"v", Role::v}}) || assign({{"s", Role::u}, {"t", Role::v}}) ||
+         assign({{"texture_u", Role::u}, {"texture_v", Role::v}}) ||
+         assign({{"texture_s", Role::u}, {"texture_t", Role::v}}));
+  (void)(assign({{"nx", Role::nx}, {"ny", Role::ny}, {"nz", Role::nz}}) ||
+         assign({{"normal_x", Role::nx}, {"normal_y", Role::ny}, {"normal_z", Role::nz}}));
+  if (assign({{"red", Role::red}, {"green", Role::green}, {"blue", Role::blue}}) ||
+      assign({{"diffuse_red", Role::red}, {"diffuse_green", Role::green}, {"diffuse_blue", Role::blue}}))
+    (void)(assign({{"alpha", Role::alpha}}) || assign({{"diffuse_alpha", Role::alpha}}));
+}
 
 enum class Encoding { ascii, binary_le, binary_be };
 
@@ -155,6 +185,8 @@ Ply_header parse_header(Line_reader& in) {
   if (!has_format) in.fail("the header has no 'format' line");
   h.end_line = in.line_number();
   h.body_offset = in.offset();
+  for (Ply_element& e : h.elements)
+    if (e.name == "vertex") assign_attribute_roles(e);
   for (const Ply_element& e : h.elements) {
     auto has = [&](Role r) {
       for (Role q : e.roles) if (q == r) return true;
@@ -342,6 +374,13 @@ Polygon_soup parse_ply(std::string_view text, const std::string& name) {
   };
 
   for (const Ply_element& e : h.elements) {
+    auto has = [&](Role r) { return std::find(e.roles.begin(), e.roles.end(), r) != e.roles.end(); };
+    const bool keeps_uv = e.name == "vertex" && has(Role::u), keeps_normal = e.name == "vertex" && has(Role::nx),
+               keeps_colour = e.name == "vertex" && has(Role::red), has_alpha = has(Role::alpha);
+    // Integer colour channels are bytes (0-255, as CGAL and most tools write them); floats are in [0, 1].
+    double colour_divisor = 1;
+    for (std::size_t k = 0; k < e.properties.size(); ++k)
+      if (e.roles[k] == Role::red && is_integral(e.properties[k].type)) colour_divisor = 255;
     const bool has_patch =
         e.name == "face" && std::find(e.roles.begin(), e.roles.end(), Role::patch_id) != e.roles.end();
     // Only flagged edges are curve edges: CGAL's write_PLY lists every edge of the mesh, and
@@ -350,7 +389,7 @@ Polygon_soup parse_ply(std::string_view text, const std::string& name) {
         e.name == "edge" && std::find(e.roles.begin(), e.roles.end(), Role::curve_flag) != e.roles.end();
     for (std::uint64_t i = 0; i < e.count; ++i) {
       const std::size_t where = body.begin_instance(e, i);
-      double xyz[3] = {0, 0, 0};
+      double xyz[3] = {0, 0, 0}, uv[2] = {0, 0}, normal[3] = {0, 0, 0}, rgba[4] = {0, 0, 0, 1};
       std::array<std::size_t, 2> edge{};
       int patch = -1;
       bool flagged = false;
@@ -376,11 +415,25 @@ Polygon_soup parse_ply(std::string_view text, const std::string& name) {
           case Role::edge_v1: edge[0] = to_index(v, "edge vertex"); break;
           case Role::edge_v2: edge[1] = to_index(v, "edge vertex"); break;
           case Role::curve_flag: flagged = v != 0; break;
+          case Role::u: uv[0] = v; break;
+          case Role::v: uv[1] = v; break;
+          case Role::nx: normal[0] = v; break;
+          case Role::ny: normal[1] = v; break;
+          case Role::nz: normal[2] = v; break;
+          case Role::red: rgba[0] = v / colour_divisor; break;
+          case Role::green: rgba[1] = v / colour_divisor; break;
+          case Role::blue: rgba[2] = v / colour_divisor; break;
+          case Role::alpha: rgba[3] = v / colour_divisor; break;
           default: break;
         }
       }
       body.end_instance(e);
-      if (e.name == "vertex") soup.points.emplace_back(xyz[0], xyz[1], xyz[2]);
+      if (e.name == "vertex") {
+        soup.points.emplace_back(xyz[0], xyz[1], xyz[2]);
+        if (keeps_uv) soup.vertex_uvs.push_back({uv[0], uv[1]});
+        if (keeps_normal) soup.vertex_normals.push_back({normal[0], normal[1], normal[2]});
+        if (keeps_colour) soup.vertex_colors.push_back({rgba[0], rgba[1], rgba[2], has_alpha ? rgba[3] : 1.0});
+      }
       if (e.name == "face") {
         soup.end_polygon(where);
         if (has_patch) soup.polygon_patch.push_back(patch);

@@ -24,6 +24,10 @@ struct Polygon_soup {
   std::vector<std::array<std::size_t, 2>> edges;
   std::vector<std::size_t> edge_where;
   std::size_t ignored_edges = 0;  ///< listed edges that are not curve edges (PLY without `curve`)
+  /// Per-vertex attributes kept (Mesh_data::vertex_uvs, …): empty or one per point.
+  std::vector<std::array<double, 2>> vertex_uvs;
+  std::vector<std::array<double, 3>> vertex_normals;
+  std::vector<std::array<double, 4>> vertex_colors;
   /// Attributes read and not kept (Mesh_read_report::dropped_attributes); add with drop().
   std::vector<std::string> dropped_attributes;
 

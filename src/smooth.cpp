@@ -293,7 +293,7 @@ void run_flow(Smoothing_arrays& m, const Flow_settings& s, Smoothing_report& rep
 
   for (std::size_t it = 0; it < s.iterations; ++it) {
     if (s.on_iteration && !s.on_iteration(s.progress_offset + it, s.progress_total ? s.progress_total : s.iterations))
-      throw Algorithm_failure("smooth", "cancelled by the progress callback");
+      throw Cancelled("smooth");
     const double* P = cur.data();
 
     std::size_t clamped_cot = 0;

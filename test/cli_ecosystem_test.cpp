@@ -15,8 +15,10 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cmath>
 #include <fstream>
 #include <set>
+#include <sstream>
 
 using namespace meshfit_test;
 using Json = nlohmann::json;
@@ -458,56 +460,251 @@ TEST_CASE("cli ecosystem: a --split-regions directory that cannot be used is ref
   CHECK(std::filesystem::exists(dir.file("new-parts/region_0.ply")));
 }
 
-// ---- attributes read and not carried ------------------------------------------------------------
+// ---- vertex attributes: carried by fit, smooth and partition; warned about where they are not ----
 
-TEST_CASE("cli ecosystem: attributes of the template that the output does not carry are warned about in the report", "[cli][ecosystem][attributes]") {
+namespace {
+
+/// An output OBJ read by the test itself (not meshfit's reader): `v` (and colour), `vt`, `vn`
+/// values, and the faces' corners as written (`a`, `a/b`, `a//c`, `a/b/c`, 1-based).
+struct Obj_text {
+  std::vector<std::array<double, 3>> v;
+  std::vector<std::vector<double>> v_extra;  // values after x y z
+  std::vector<std::array<double, 2>> vt;
+  std::vector<std::array<double, 3>> vn;
+  std::vector<std::array<std::array<long, 3>, 3>> f;  // per corner: v, vt, vn (0: none)
+};
+
+Obj_text parse_obj_text(const std::string& text) {
+  Obj_text o;
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream ls(line);
+    std::string key;
+    ls >> key;
+    if (key == "v") {
+      std::array<double, 3> p{};
+      ls >> p[0] >> p[1] >> p[2];
+      o.v.push_back(p);
+      std::vector<double> extra;
+      for (double x; ls >> x;) extra.push_back(x);
+      o.v_extra.push_back(extra);
+    } else if (key == "vt") {
+      std::array<double, 2> t{};
+      ls >> t[0] >> t[1];
+      o.vt.push_back(t);
+    } else if (key == "vn") {
+      std::array<double, 3> n{};
+      ls >> n[0] >> n[1] >> n[2];
+      o.vn.push_back(n);
+    } else if (key == "f") {
+      std::array<std::array<long, 3>, 3> face{};
+      for (auto& c : face) {
+        std::string tok;
+        ls >> tok;
+        std::size_t at = 0;
+        for (int k = 0; k < 3 && at <= tok.size(); ++k) {
+          const std::size_t slash = tok.find('/', at);
+          const std::string part = tok.substr(at, slash == std::string::npos ? std::string::npos : slash - at);
+          c[k] = part.empty() ? 0 : std::stol(part);
+          if (slash == std::string::npos) break;
+          at = slash + 1;
+        }
+      }
+      o.f.push_back(face);
+    }
+  }
+  return o;
+}
+
+/// An ASCII PLY's vertex element read by the test itself: property names and one row of values
+/// per vertex, and the faces' corner indices.
+struct Ply_text {
+  std::vector<std::string> vertex_properties;
+  std::vector<std::vector<double>> rows;
+  std::vector<std::array<std::size_t, 3>> faces;
+  std::size_t column(const std::string& name) const {
+    return std::size_t(std::find(vertex_properties.begin(), vertex_properties.end(), name) - vertex_properties.begin());
+  }
+};
+
+Ply_text parse_ply_text(const std::string& text) {
+  Ply_text p;
+  std::istringstream in(text);
+  std::string line, element;
+  std::size_t nv = 0, nf = 0;
+  while (std::getline(in, line) && line != "end_header") {
+    std::istringstream ls(line);
+    std::string key, a, b;
+    ls >> key >> a >> b;
+    if (key == "element") {
+      element = a;
+      if (a == "vertex") nv = std::stoul(b);
+      if (a == "face") nf = std::stoul(b);
+    } else if (key == "property" && element == "vertex") {
+      p.vertex_properties.push_back(b);
+    }
+  }
+  for (std::size_t i = 0; i < nv && std::getline(in, line); ++i) {
+    std::istringstream ls(line);
+    std::vector<double> row;
+    for (double x; ls >> x;) row.push_back(x);
+    p.rows.push_back(row);
+  }
+  for (std::size_t i = 0; i < nf && std::getline(in, line); ++i) {
+    std::istringstream ls(line);
+    std::size_t n = 0;
+    std::array<std::size_t, 3> t{};
+    ls >> n >> t[0] >> t[1] >> t[2];
+    p.faces.push_back(t);
+  }
+  return p;
+}
+
+/// For each vertex k >= `fixed`, the largest |value(k) − mean of its neighbours' values| over the
+/// channels (the harmonic extension makes it zero), neighbours read from `faces`.
+double largest_mean_residual(const std::vector<std::array<std::size_t, 3>>& faces,
+                             const std::vector<std::vector<double>>& values, std::size_t fixed) {
+  std::vector<std::set<std::size_t>> nb(values.size());
+  for (const auto& t : faces)
+    for (int k = 0; k < 3; ++k) {
+      nb[t[k]].insert(t[(k + 1) % 3]);
+      nb[t[(k + 1) % 3]].insert(t[k]);
+    }
+  double worst = 0;
+  for (std::size_t v = fixed; v < values.size(); ++v)
+    for (std::size_t c = 0; c < values[v].size(); ++c) {
+      double mean = 0;
+      for (std::size_t u : nb[v]) mean += values[u][c];
+      mean /= double(nb[v].size());
+      worst = std::max(worst, std::abs(values[v][c] - mean));
+    }
+  return worst;
+}
+
+}  // namespace
+
+TEST_CASE("cli ecosystem: fit carries the template's texture coordinates, normals and colours to .obj and .ply outputs",
+          "[cli][ecosystem][attributes]") {
   Temp_dir dir;
   const meshfit::Mesh_data t = meshfit::read_mesh_data(data + "/template.off");
-  {  // The example's template as an OBJ with texture coordinates.
+  const std::size_t nt = t.points.size();
+  // The example's template as an OBJ with texture coordinates (vt k for vertex k) and normals
+  // shared through one vn per vertex, and as a PLY with normals and byte colours.
+  auto uv_of = [](const meshfit::Point_3& p) { return std::array<double, 2>{0.5 + 0.5 * p.x(), 0.25 - 0.5 * p.z()}; };
+  {
     std::ofstream obj(dir.file("template.obj"));
     obj.precision(17);
     for (const auto& p : t.points) obj << "v " << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
-    for (const auto& p : t.points) obj << "vt " << 0.5 + 0.5 * p.x() << ' ' << 0.5 + 0.5 * p.y() << '\n';
-    for (const auto& f : t.triangles)
-      obj << "f " << f[0] + 1 << '/' << f[0] + 1 << ' ' << f[1] + 1 << '/' << f[1] + 1 << ' ' << f[2] + 1 << '/'
-          << f[2] + 1 << '\n';
+    for (const auto& p : t.points) obj << "vt " << uv_of(p)[0] << ' ' << uv_of(p)[1] << '\n';
+    for (const auto& p : t.points) obj << "vn " << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
+    for (const auto& f : t.triangles) {
+      obj << 'f';
+      for (std::size_t v : f) obj << ' ' << v + 1 << '/' << v + 1 << '/' << v + 1;
+      obj << '\n';
+    }
   }
-  {  // ... and as a PLY with vertex normals.
+  auto colour_of = [](std::size_t i) { return std::array<int, 3>{int(i % 256), int((7 * i) % 256), 255}; };
+  {
     std::ofstream ply(dir.file("template.ply"));
     ply.precision(17);
-    ply << "ply\nformat ascii 1.0\nelement vertex " << t.points.size()
-        << "\nproperty double x\nproperty double y\nproperty double z\nproperty float nx\nproperty float ny\n"
-           "property float nz\nelement face "
+    ply << "ply\nformat ascii 1.0\nelement vertex " << nt
+        << "\nproperty double x\nproperty double y\nproperty double z\nproperty double nx\nproperty double ny\n"
+           "property double nz\nproperty uchar red\nproperty uchar green\nproperty uchar blue\nelement face "
         << t.triangles.size() << "\nproperty list uchar int vertex_indices\nend_header\n";
-    for (const auto& p : t.points) ply << p.x() << ' ' << p.y() << ' ' << p.z() << " 0 0 1\n";
+    for (std::size_t i = 0; i < nt; ++i) {
+      const auto& p = t.points[i];
+      const auto c = colour_of(i);
+      ply << p.x() << ' ' << p.y() << ' ' << p.z() << ' ' << p.x() << ' ' << p.y() << ' ' << p.z() << ' ' << c[0]
+          << ' ' << c[1] << ' ' << c[2] << '\n';
+    }
     for (const auto& f : t.triangles) ply << "3 " << f[0] << ' ' << f[1] << ' ' << f[2] << '\n';
   }
   const std::string rest = " --curves " + q(data + "/curves.polylines.txt") + " --correspondences " + q(data + "/pairs.txt");
-  auto warnings = [&](const std::string& name) {
+  auto not_carried = [&](const std::string& name) {
     const Json j = read_json(dir.file(name));
     std::vector<std::string> w;
     for (const Json& s : j["warnings"])
       if (s.get<std::string>().find("read and not carried") != std::string::npos) w.push_back(s.get<std::string>());
     return w;
   };
-  const Run_result obj = run(dir, "fit --template template.obj" + rest + " --output a.ply --report a.json");
+
+  // OBJ in, OBJ out: vt and vn per vertex, every corner naming its vertex's.
+  const Run_result obj = run(dir, "fit --quiet --template template.obj" + rest + " --output a.obj --report a.json");
   INFO(obj.err);
   REQUIRE(obj.status == 0);
-  CHECK(warnings("a.json") ==
-        std::vector<std::string>{"template.obj: texture coordinates (vt) are read and not carried to the output"});
-  CHECK(obj.err.find("warning: template.obj: texture coordinates (vt) are read and not carried") != std::string::npos);
+  CHECK(not_carried("a.json").empty());
+  const Obj_text a = parse_obj_text(read_text(dir.file("a.obj")));
+  const Obj_text in = parse_obj_text(read_text(dir.file("template.obj")));
+  REQUIRE(a.v.size() > nt);  // fit added vertices
+  REQUIRE(a.vt.size() == a.v.size());
+  REQUIRE(a.vn.size() == a.v.size());
+  for (const auto& face : a.f)
+    for (const auto& c : face) CHECK((c[1] == c[0] && c[2] == c[0]));
+  // The template's vertices keep their values exactly (as the input text gives them).
+  for (std::size_t i = 0; i < nt; ++i) {
+    CHECK(a.vt[i] == in.vt[i]);
+    CHECK(a.vn[i] == in.vn[i]);
+  }
+  // The added vertices' texture coordinates are the mean of their neighbours' (harmonic
+  // extension); their normals have unit length.
+  std::vector<std::array<std::size_t, 3>> faces;
+  for (const auto& face : a.f) faces.push_back({std::size_t(face[0][0] - 1), std::size_t(face[1][0] - 1), std::size_t(face[2][0] - 1)});
+  std::vector<std::vector<double>> uvs;
+  for (const auto& x : a.vt) uvs.push_back({x[0], x[1]});
+  CHECK(largest_mean_residual(faces, uvs, nt) < 1e-9);
+  for (std::size_t i = nt; i < a.vn.size(); ++i)
+    CHECK(std::abs(std::hypot(a.vn[i][0], a.vn[i][1], a.vn[i][2]) - 1) < 1e-12);
+
+  // PLY in, PLY out: nx ny nz and red green blue alpha.
   REQUIRE(run(dir, "fit --quiet --template template.ply" + rest + " --output b.ply --report b.json").status == 0);
-  CHECK(warnings("b.json") ==
-        std::vector<std::string>{"template.ply: vertex normals (nx ny nz) are read and not carried to the output"});
-  // The same geometry without attributes: no such warning, and the same fit.
+  CHECK(not_carried("b.json").empty());
+  const Ply_text b = parse_ply_text(read_text(dir.file("b.ply")));
+  for (const char* name : {"nx", "ny", "nz", "red", "green", "blue", "alpha"})
+    CHECK(b.column(name) < b.vertex_properties.size());
+  REQUIRE(b.rows.size() > nt);
+  const std::size_t r = b.column("red"), nx = b.column("nx");
+  for (std::size_t i = 0; i < nt; ++i) {
+    const auto c = colour_of(i);
+    CHECK(b.rows[i][r] == c[0]);
+    CHECK(b.rows[i][r + 1] == c[1]);
+    CHECK(b.rows[i][r + 2] == c[2]);
+    CHECK(b.rows[i][r + 3] == 255);
+    const auto& p = t.points[i];  // the normal given was the template's position
+    CHECK(std::array<double, 3>{b.rows[i][nx], b.rows[i][nx + 1], b.rows[i][nx + 2]} ==
+          std::array<double, 3>{p.x(), p.y(), p.z()});
+  }
+  std::vector<std::vector<double>> colours;
+  for (const auto& row : b.rows) colours.push_back({row[r], row[r + 1], row[r + 2]});
+  CHECK(largest_mean_residual(b.faces, colours, nt) <= 1 + 1e-9);  // every value rounded to a byte
+  for (std::size_t i = nt; i < b.rows.size(); ++i) {
+    CHECK(std::abs(std::hypot(b.rows[i][nx], b.rows[i][nx + 1], b.rows[i][nx + 2]) - 1) < 1e-6);
+    for (std::size_t k = r; k < r + 3; ++k) CHECK((b.rows[i][k] >= 0 && b.rows[i][k] <= 255));
+  }
+  // The geometry does not depend on the attributes: the same fit as from the plain template.
   REQUIRE(run(dir, "fit --quiet" + example_inputs + " --output c.ply --report c.json").status == 0);
-  CHECK(warnings("c.json").empty());
-  CHECK(read_text(dir.file("c.ply")) == read_text(dir.file("b.ply")));
-  // partition and smooth warn too, and a failed run's report keeps the warning.
-  REQUIRE(run(dir, "smooth --quiet --template template.obj --output s.ply --report s.json").status == 0);
-  CHECK(warnings("s.json").size() == 1);
-  CHECK(run(dir, "partition --quiet --template template.obj --curves " + q(data + "/curves.polylines.txt") +
-                     " --output p.ply --report p.json").status == 1);
-  CHECK(read_json(dir.file("p.json"))["completed"] == false);
-  CHECK(warnings("p.json").size() == 1);
+  const Ply_text c = parse_ply_text(read_text(dir.file("c.ply")));
+  REQUIRE(c.rows.size() == b.rows.size());
+  for (std::size_t i = 0; i < c.rows.size(); ++i)
+    CHECK(std::vector<double>(b.rows[i].begin(), b.rows[i].begin() + 3) == c.rows[i]);
+  CHECK(c.faces == b.faces);
+
+  // An output that holds no vertex attribute, and deform (which adds vertices without
+  // interpolating attributes), say so in the report and on stderr.
+  const Run_result off = run(dir, "fit --template template.obj" + rest + " --output d.off --report d.json");
+  REQUIRE(off.status == 0);
+  CHECK(not_carried("d.json") ==
+        std::vector<std::string>{"template.obj: texture coordinates are read and not carried to the output (OFF holds "
+                                 "no vertex attributes: write .obj or .ply)",
+                                 "template.obj: vertex normals are read and not carried to the output (OFF holds no "
+                                 "vertex attributes: write .obj or .ply)"});
+  CHECK(off.err.find("warning: template.obj: texture coordinates are read and not carried") != std::string::npos);
+  REQUIRE(run(dir, "deform --quiet --template template.ply" + rest + " --output e.ply --report e.json").status == 0);
+  CHECK(not_carried("e.json").size() == 2);
+  // smooth moves vertices only: the attributes are the template's, unchanged.
+  REQUIRE(run(dir, "smooth --quiet --template template.obj --output s.obj --report s.json").status == 0);
+  CHECK(not_carried("s.json").empty());
+  const Obj_text sm = parse_obj_text(read_text(dir.file("s.obj")));
+  CHECK(sm.vt == in.vt);
+  CHECK(sm.vn == in.vn);
 }

@@ -7,10 +7,12 @@
 #include <meshfit/io.h>
 
 #include <CGAL/Polyhedron_3.h>
+#include <CGAL/Simple_cartesian.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/boost/graph/graph_traits_Polyhedron_3.h>
 #include <CGAL/boost/graph/properties_Polyhedron_3.h>
 
+#include <boost/property_map/function_property_map.hpp>
 #include <boost/property_map/property_map.hpp>
 
 #include "test_helpers.h"
@@ -19,8 +21,11 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <memory>
 #include <set>
 #include <string>
+#include <tuple>
+#include <type_traits>
 
 using Mesh = CGAL::Surface_mesh<meshfit::Point_3>;
 using Poly = CGAL::Polyhedron_3<meshfit::Kernel>;
@@ -401,4 +406,424 @@ TEST_CASE("fit: a cancelled or failed fit leaves the mesh, its property maps and
   };
   for (const char* stage : {"deform", "partition", "smooth", "fit"}) fit_polyhedron(stage, false);
   fit_polyhedron("", true);
+}
+
+// ---- the stages on their own: a cancel or a failure anywhere leaves the mesh exactly as it was ----
+
+namespace {
+
+/// Everything of a Surface_mesh, read through its API element by element over the whole index
+/// range (removed elements included): connectivity, points, removal flags, the property lists
+/// and the values of the test's maps. Two meshes compare equal only if they are the same bits
+/// as far as any user of the mesh can tell.
+struct Surface_mesh_state {
+  std::size_t nv = 0, nh = 0, ne = 0, nf = 0, removed_v = 0, removed_e = 0, removed_f = 0;
+  bool garbage = false;
+  std::vector<std::string> vprops, hprops, eprops, fprops;
+  std::vector<std::size_t> v_halfedge, h_target, h_next, h_prev, h_face, f_halfedge;
+  std::vector<bool> v_removed, e_removed, f_removed;
+  std::vector<meshfit::Point_3> points;
+  std::vector<Point_2> uv;
+  std::vector<int> etag, htag, ftag;
+  std::vector<bool> curve;
+  std::vector<std::size_t> region;
+  bool operator==(const Surface_mesh_state& o) const {
+    return std::tie(nv, nh, ne, nf, removed_v, removed_e, removed_f, garbage, vprops, hprops, eprops, fprops,
+                    v_halfedge, h_target, h_next, h_prev, h_face, f_halfedge, v_removed, e_removed, f_removed, points,
+                    uv, etag, htag, ftag, curve, region) ==
+           std::tie(o.nv, o.nh, o.ne, o.nf, o.removed_v, o.removed_e, o.removed_f, o.garbage, o.vprops, o.hprops,
+                    o.eprops, o.fprops, o.v_halfedge, o.h_target, o.h_next, o.h_prev, o.h_face, o.f_halfedge,
+                    o.v_removed, o.e_removed, o.f_removed, o.points, o.uv, o.etag, o.htag, o.ftag, o.curve, o.region);
+  }
+};
+
+Surface_mesh_state state_of(const Mesh& tm) {
+  using H = Mesh::Halfedge_index;
+  using E = Mesh::Edge_index;
+  using F = Mesh::Face_index;
+  Surface_mesh_state s;
+  s.nv = tm.number_of_vertices() + tm.number_of_removed_vertices();
+  s.ne = tm.number_of_edges() + tm.number_of_removed_edges();
+  s.nh = 2 * s.ne;
+  s.nf = tm.number_of_faces() + tm.number_of_removed_faces();
+  s.removed_v = tm.number_of_removed_vertices();
+  s.removed_e = tm.number_of_removed_edges();
+  s.removed_f = tm.number_of_removed_faces();
+  s.garbage = tm.has_garbage();
+  s.vprops = tm.properties<V>();
+  s.hprops = tm.properties<H>();
+  s.eprops = tm.properties<E>();
+  s.fprops = tm.properties<F>();
+  const auto uv = tm.property_map<V, Point_2>("v:uv").first;
+  const auto etag = tm.property_map<E, int>("e:tag").first;
+  const auto htag = tm.property_map<H, int>("h:tag").first;
+  const auto ftag = tm.property_map<F, int>("f:tag").first;
+  const auto curve = tm.property_map<E, bool>("e:curve").first;
+  const auto region = tm.property_map<F, std::size_t>("f:region").first;
+  for (std::size_t i = 0; i < s.nv; ++i) {
+    const V v(static_cast<Mesh::size_type>(i));
+    s.v_halfedge.push_back(std::size_t(tm.halfedge(v)));
+    s.v_removed.push_back(tm.is_removed(v));
+    s.points.push_back(tm.point(v));
+    s.uv.push_back(uv[v]);
+  }
+  for (std::size_t i = 0; i < s.nh; ++i) {
+    const H h(static_cast<Mesh::size_type>(i));
+    s.h_target.push_back(std::size_t(tm.target(h)));
+    s.h_next.push_back(std::size_t(tm.next(h)));
+    s.h_prev.push_back(std::size_t(tm.prev(h)));
+    s.h_face.push_back(std::size_t(tm.face(h)));
+    s.htag.push_back(htag[h]);
+  }
+  for (std::size_t i = 0; i < s.ne; ++i) {
+    const E e(static_cast<Mesh::size_type>(i));
+    s.e_removed.push_back(tm.is_removed(e));
+    s.etag.push_back(etag[e]);
+    s.curve.push_back(curve[e]);
+  }
+  for (std::size_t i = 0; i < s.nf; ++i) {
+    const F f(static_cast<Mesh::size_type>(i));
+    s.f_halfedge.push_back(std::size_t(tm.halfedge(f)));
+    s.f_removed.push_back(tm.is_removed(f));
+    s.ftag.push_back(ftag[f]);
+    s.region.push_back(region[f]);
+  }
+  return s;
+}
+
+/// The test's maps on a Surface_mesh, with values that differ from element to element (and from
+/// what any stage would write: curve edges every third edge, regions 1000 + f), and one removed
+/// vertex, edge and face (garbage must stay garbage).
+void add_caller_maps(Mesh& tm) {
+  auto uv = tm.add_property_map<V, Point_2>("v:uv", Point_2(-7, -7)).first;
+  auto etag = tm.add_property_map<Mesh::Edge_index, int>("e:tag", -1).first;
+  auto htag = tm.add_property_map<Mesh::Halfedge_index, int>("h:tag", -1).first;
+  auto ftag = tm.add_property_map<Mesh::Face_index, int>("f:tag", -1).first;
+  auto curve = tm.add_property_map<Mesh::Edge_index, bool>("e:curve", false).first;
+  auto region = tm.add_property_map<Mesh::Face_index, std::size_t>("f:region", 0).first;
+  for (V v : tm.vertices()) uv[v] = Point_2(tm.point(v).x(), -tm.point(v).z());
+  for (auto e : tm.edges()) etag[e] = 3 * int(e), curve[e] = std::size_t(e) % 3 == 0;
+  for (auto h : tm.halfedges()) htag[h] = 5 * int(h);
+  for (auto f : tm.faces()) ftag[f] = 7 * int(f), region[f] = 1000 + std::size_t(f);
+  tm.remove_vertex(tm.add_vertex(meshfit::Point_3(9, 9, 9)));
+  tm.remove_edge(tm.edge(tm.add_edge()));
+  tm.remove_face(tm.add_face());
+}
+
+/// A Polyhedron's handles, connectivity and points, in the order of its lists.
+struct Polyhedron_state {
+  std::vector<boost::graph_traits<Poly>::vertex_descriptor> vertices;
+  std::vector<boost::graph_traits<Poly>::halfedge_descriptor> halfedges, h_next, h_prev, h_opposite, v_halfedge,
+      f_halfedge;
+  std::vector<boost::graph_traits<Poly>::face_descriptor> faces, h_face;
+  std::vector<boost::graph_traits<Poly>::vertex_descriptor> h_target;
+  std::vector<meshfit::Point_3> points;
+  bool operator==(const Polyhedron_state& o) const {
+    return std::tie(vertices, halfedges, h_next, h_prev, h_opposite, v_halfedge, f_halfedge, faces, h_face, h_target,
+                    points) == std::tie(o.vertices, o.halfedges, o.h_next, o.h_prev, o.h_opposite, o.v_halfedge,
+                                        o.f_halfedge, o.faces, o.h_face, o.h_target, o.points);
+  }
+};
+
+Polyhedron_state state_of(Poly& tm) {
+  Polyhedron_state s;
+  for (auto v : vertices(tm)) {
+    s.vertices.push_back(v);
+    s.v_halfedge.push_back(halfedge(v, tm));
+    s.points.push_back(v->point());
+  }
+  for (auto h : halfedges(tm)) {
+    s.halfedges.push_back(h);
+    s.h_next.push_back(next(h, tm));
+    s.h_prev.push_back(prev(h, tm));
+    s.h_opposite.push_back(opposite(h, tm));
+    s.h_face.push_back(face(h, tm));
+    s.h_target.push_back(target(h, tm));
+  }
+  for (auto f : faces(tm)) {
+    s.faces.push_back(f);
+    s.f_halfedge.push_back(halfedge(f, tm));
+  }
+  return s;
+}
+
+/// A progress callback that cancels at its `stop`-th call (0-based; never when stop is SIZE_MAX)
+/// and counts its calls.
+struct Cancel_at {
+  std::size_t stop = SIZE_MAX;
+  std::shared_ptr<std::size_t> calls = std::make_shared<std::size_t>(0);
+  bool operator()(const meshfit::Progress_step&) const { return (*calls)++ != stop; }
+};
+
+/// Runs `stage(tm, callback)` on a fresh mesh from `make` cancelling at every progress call in
+/// turn (at most about `samples` of them, spread over the run, first and last included), and
+/// checks each time that the stage threw Algorithm_failure for the cancel and that `state_of(tm)`
+/// is as before the call. Returns the number of progress calls of a complete run.
+template <typename TriangleMesh, typename Make, typename Stage>
+std::size_t check_cancels_leave_mesh(const char* what, const Make& make, const Stage& stage, std::size_t samples = 12) {
+  std::size_t total = 0;
+  {
+    TriangleMesh tm;
+    make(tm);
+    Cancel_at count;
+    stage(tm, count);
+    total = *count.calls;
+  }
+  REQUIRE(total > 0);
+  std::vector<std::size_t> stops;
+  const std::size_t step = std::max<std::size_t>(1, total / samples);
+  for (std::size_t k = 0; k < total; k += step) stops.push_back(k);
+  if (stops.back() != total - 1) stops.push_back(total - 1);
+  for (std::size_t k : stops) {
+    INFO(what << ": cancelled at progress call " << k << " of " << total);
+    TriangleMesh tm;
+    make(tm);
+    const auto before = state_of(tm);
+    bool cancelled = false;
+    try {
+      stage(tm, Cancel_at{k});
+    } catch (const meshfit::Algorithm_failure& e) {
+      cancelled = std::string(e.what()).find("cancelled") != std::string::npos;
+    }
+    CHECK(cancelled);
+    CHECK(state_of(tm) == before);
+  }
+  return total;
+}
+
+template <typename TriangleMesh>
+void with_caller_maps(TriangleMesh& tm) {
+  if constexpr (std::is_same_v<TriangleMesh, Mesh>) add_caller_maps(tm);
+}
+
+/// The example template, coarse-deformed (as deform_fine and deform_fine_on_surface take it).
+template <typename TriangleMesh>
+Network_and_pairs coarse_example(TriangleMesh& tm) {
+  Network_and_pairs in = example(tm);
+  meshfit::deform_coarse(tm, in.network, in.pairs);
+  return in;
+}
+
+/// The example template, deformed by the thesis level (as partition_mesh takes it: every network
+/// vertex a mesh vertex, the segments not yet edges, so that partitioning walks, flips and moves
+/// vertices); with `partitioned`, partitioned too and its curve edges returned (as
+/// smooth_fitted_mesh takes it).
+template <typename TriangleMesh>
+std::vector<std::array<std::size_t, 2>> deformed_example(TriangleMesh& tm, bool partitioned) {
+  Network_and_pairs in = example(tm);
+  meshfit::deform_template(tm, in.network, in.pairs, meshfit::parameters::fine_level(meshfit::Fine_level::thesis));
+  if (!partitioned) return {};
+  auto curve = get(CGAL::dynamic_edge_property_t<bool>(), tm);
+  meshfit::partition_mesh(tm, in.network, CGAL::parameters::edge_is_constrained_map(curve));
+  return meshfit::to_mesh_data(tm, CGAL::parameters::edge_is_constrained_map(curve)).curve_edges;
+}
+
+}  // namespace
+
+TEMPLATE_TEST_CASE("stages: cancelling deform, partition or smooth at any step leaves the mesh exactly as it was",
+                   "[fit][caller_data][cancel][generic]", Mesh, Poly) {
+  using TriangleMesh = TestType;
+  namespace mp = meshfit::parameters;
+  const std::string d = MESHFIT_EXAMPLE_DATA_DIR;
+  const meshfit::Curve_network network = meshfit::read_curve_network(d + "/curves.polylines.txt");
+  const std::vector<meshfit::Correspondence> pairs = meshfit::read_correspondences(d + "/pairs.txt", network);
+
+  auto template_mesh = [](TriangleMesh& tm) {
+    example(tm);
+    with_caller_maps(tm);
+  };
+  CHECK(check_cancels_leave_mesh<TriangleMesh>("deform_template", template_mesh, [&](TriangleMesh& tm, Cancel_at c) {
+          meshfit::deform_template(tm, network, pairs, mp::progress(c));
+        }) > 4);
+  check_cancels_leave_mesh<TriangleMesh>("deform_template, thesis level", template_mesh,
+                                         [&](TriangleMesh& tm, Cancel_at c) {
+                                           meshfit::deform_template(
+                                               tm, network, pairs, mp::progress(c).fine_level(meshfit::Fine_level::thesis));
+                                         });
+  check_cancels_leave_mesh<TriangleMesh>("deform_coarse", template_mesh, [&](TriangleMesh& tm, Cancel_at c) {
+    meshfit::deform_coarse(tm, network, pairs, mp::progress(c));
+  });
+  auto coarse_mesh = [](TriangleMesh& tm) {
+    coarse_example(tm);
+    with_caller_maps(tm);
+  };
+  check_cancels_leave_mesh<TriangleMesh>("deform_fine", coarse_mesh, [&](TriangleMesh& tm, Cancel_at c) {
+    meshfit::deform_fine(tm, network, pairs, mp::progress(c));
+  });
+  check_cancels_leave_mesh<TriangleMesh>("deform_fine_on_surface", coarse_mesh, [&](TriangleMesh& tm, Cancel_at c) {
+    meshfit::deform_fine_on_surface(tm, network, pairs, mp::progress(c));
+  });
+
+  auto deformed_mesh = [](TriangleMesh& tm) {
+    deformed_example(tm, false);
+    with_caller_maps(tm);
+  };
+  // The caller's own maps as partition's outputs and input: on a cancel they keep their values.
+  check_cancels_leave_mesh<TriangleMesh>("partition_mesh", deformed_mesh, [&](TriangleMesh& tm, Cancel_at c) {
+    if constexpr (std::is_same_v<TriangleMesh, Mesh>) {
+      const auto curve = tm.template property_map<Mesh::Edge_index, bool>("e:curve").first;
+      const auto region = tm.template property_map<Mesh::Face_index, std::size_t>("f:region").first;
+      const auto held = tm.template property_map<V, Point_2>("v:uv").first;  // any vertex map will do
+      meshfit::partition_mesh(tm, network,
+                              mp::progress(c)
+                                  .edge_is_constrained_map(curve)
+                                  .face_patch_map(region)
+                                  .vertex_is_constrained_map(boost::make_function_property_map<V>(
+                                      [held](V v) { return held[v].x() > 0.9; })));
+    } else {
+      meshfit::partition_mesh(tm, network, mp::progress(c));
+    }
+  });
+
+  auto partitioned_mesh = [](TriangleMesh& tm) {
+    deformed_example(tm, true);
+    with_caller_maps(tm);
+  };
+  check_cancels_leave_mesh<TriangleMesh>("smooth_fitted_mesh", partitioned_mesh, [&](TriangleMesh& tm, Cancel_at c) {
+    meshfit::smooth_fitted_mesh(tm, mp::progress(c).number_of_iterations(20));
+  });
+  check_cancels_leave_mesh<TriangleMesh>("laplacian_flow", partitioned_mesh, [&](TriangleMesh& tm, Cancel_at c) {
+    meshfit::laplacian_flow(tm, mp::progress(c).number_of_iterations(10));
+  });
+}
+
+TEMPLATE_TEST_CASE("stages: deform failing after it began (a polyline far from the template) leaves the mesh as it was",
+                   "[fit][caller_data][generic]", Mesh, Poly) {
+  using TriangleMesh = TestType;
+  TriangleMesh tm;
+  Network_and_pairs in = example(tm);
+  with_caller_maps(tm);
+  // The example's polylines and one more, far away: the coarse level moves the template (the
+  // pairs are the example's), then the surface level refuses the far polyline.
+  std::vector<meshfit::Curve_network::Polyline> lines;
+  for (const auto& pl : in.network.polylines()) {
+    meshfit::Curve_network::Polyline l;
+    for (std::size_t v : pl) l.push_back(in.network.point(v));
+    lines.push_back(l);
+  }
+  lines.push_back({meshfit::Point_3(50, 50, 50), meshfit::Point_3(51, 50, 50), meshfit::Point_3(52, 51, 50)});
+  const meshfit::Curve_network far(lines);
+  std::vector<meshfit::Correspondence> pairs = in.pairs;
+  for (auto& c : pairs) c.network_vertex = *far.find_vertex(in.network.point(c.network_vertex));
+  const auto before = state_of(tm);
+  bool refused = false;
+  try {
+    meshfit::deform_template(tm, far, pairs);
+  } catch (const meshfit::Algorithm_failure& e) {
+    INFO(e.what());
+    refused = std::string(e.what()).find("far") != std::string::npos;
+  }
+  CHECK(refused);
+  CHECK(state_of(tm) == before);
+}
+
+TEMPLATE_TEST_CASE("stages: a completed partition is written into the caller's mesh as the stage made it on its own",
+                   "[fit][caller_data][generic]", Mesh, Poly) {
+  using TriangleMesh = TestType;
+  const std::string d = MESHFIT_EXAMPLE_DATA_DIR;
+  const meshfit::Curve_network network = meshfit::read_curve_network(d + "/curves.polylines.txt");
+  TriangleMesh tm;
+  deformed_example(tm, false);
+  with_caller_maps(tm);
+  // The oracle: the same stage on a copy owned by the test, in place.
+  TriangleMesh own;
+  meshfit::build_triangle_mesh(meshfit::to_mesh_data(tm), own);
+  auto own_curve = get(CGAL::dynamic_edge_property_t<bool>(), own);
+  auto own_region = get(CGAL::dynamic_face_property_t<std::size_t>(), own);
+  const auto own_report = meshfit::internal::partition_mesh_in_place(
+      own, network, CGAL::parameters::edge_is_constrained_map(own_curve).face_patch_map(own_region));
+  const meshfit::Mesh_data expected =
+      meshfit::to_mesh_data(own, CGAL::parameters::edge_is_constrained_map(own_curve).face_patch_map(own_region));
+  REQUIRE(own_report.by_walk + own_report.by_fallback > 0);  // the stage changed the mesh
+
+  const auto vertices_before = std::vector<typename boost::graph_traits<TriangleMesh>::vertex_descriptor>(
+      vertices(tm).begin(), vertices(tm).end());
+  std::vector<Point_2> uv_before;
+  if constexpr (std::is_same_v<TriangleMesh, Mesh>)
+    for (V v : tm.vertices()) uv_before.push_back(tm.template property_map<V, Point_2>("v:uv").first[v]);
+  auto curve = get(CGAL::dynamic_edge_property_t<bool>(), tm);
+  auto region = get(CGAL::dynamic_face_property_t<std::size_t>(), tm);
+  const auto report =
+      meshfit::partition_mesh(tm, network, CGAL::parameters::edge_is_constrained_map(curve).face_patch_map(region));
+  CHECK(report.curve_edges == own_report.curve_edges);
+  CHECK(report.regions == own_report.regions);
+  // Same vertices (same descriptors, same positions), same triangles, curve edges and regions.
+  CHECK(std::equal(vertices_before.begin(), vertices_before.end(), vertices(tm).begin(), vertices(tm).end()));
+  const meshfit::Mesh_data got =
+      meshfit::to_mesh_data(tm, CGAL::parameters::edge_is_constrained_map(curve).face_patch_map(region));
+  CHECK(got.points == expected.points);
+  auto triangles_with_regions = [](const meshfit::Mesh_data& m) {
+    std::set<std::pair<std::array<std::size_t, 3>, int>> out;
+    for (std::size_t f = 0; f < m.triangles.size(); ++f) out.emplace(rotated(m.triangles[f]), m.face_patch[f]);
+    return out;
+  };
+  CHECK(triangles_with_regions(got) == triangles_with_regions(expected));
+  auto edge_set = [](const meshfit::Mesh_data& m) {
+    std::set<std::pair<std::size_t, std::size_t>> out;
+    for (const auto& e : m.curve_edges) out.insert(ordered(e[0], e[1]));
+    return out;
+  };
+  CHECK(edge_set(got) == edge_set(expected));
+  if constexpr (std::is_same_v<TriangleMesh, Mesh>) {
+    // The caller's vertex map keeps its values on every vertex (none added by partitioning).
+    const auto uv = tm.template property_map<V, Point_2>("v:uv").first;
+    std::vector<Point_2> uv_after;
+    for (V v : tm.vertices()) uv_after.push_back(uv[v]);
+    CHECK(uv_after == uv_before);
+  }
+}
+
+// ---- kernels: any Cartesian kernel over double --------------------------------------------------
+
+TEST_CASE("kernels: a Simple_cartesian<double> Surface_mesh goes through every stage with Epick's coordinates",
+          "[fit][caller_data][kernel]") {
+  using SC = CGAL::Simple_cartesian<double>;
+  using SC_mesh = CGAL::Surface_mesh<SC::Point_3>;
+  Mesh epick;
+  const Network_and_pairs in = example(epick);
+  SC_mesh sc;
+  meshfit::build_triangle_mesh(meshfit::to_mesh_data(epick), sc);
+  // The oracle: the same calls on the Epick mesh; meshfit reads and writes the coordinates as
+  // doubles, so the results are the same numbers.
+  auto same = [](const Mesh& a, const SC_mesh& b) {
+    const meshfit::Mesh_data da = meshfit::to_mesh_data(a), db = meshfit::to_mesh_data(b);
+    return da.points == db.points && da.triangles == db.triangles;
+  };
+  const Mesh epick_template = epick;
+  const SC_mesh sc_template = sc;
+  namespace mp = meshfit::parameters;
+  meshfit::deform_template(epick, in.network, in.pairs, mp::fine_level(meshfit::Fine_level::thesis));
+  meshfit::deform_template(sc, in.network, in.pairs,
+                           mp::fine_level(meshfit::Fine_level::thesis).geom_traits(SC()));
+  CHECK(same(epick, sc));
+  auto epick_curve = get(CGAL::dynamic_edge_property_t<bool>(), epick);
+  auto sc_curve = get(CGAL::dynamic_edge_property_t<bool>(), sc);
+  const auto pe = meshfit::partition_mesh(epick, in.network, CGAL::parameters::edge_is_constrained_map(epick_curve));
+  const auto ps = meshfit::partition_mesh(sc, in.network, CGAL::parameters::edge_is_constrained_map(sc_curve));
+  CHECK(pe.by_walk + pe.by_fallback > 0);
+  CHECK(ps.curve_edges == pe.curve_edges);
+  CHECK(same(epick, sc));
+  meshfit::smooth_fitted_mesh(epick, mp::default_values().number_of_iterations(10).edge_is_constrained_map(epick_curve));
+  meshfit::smooth_fitted_mesh(sc, mp::default_values().number_of_iterations(10).edge_is_constrained_map(sc_curve));
+  CHECK(same(epick, sc));
+
+  Mesh epick_fit = epick_template;
+  SC_mesh sc_fit = sc_template;
+  auto sc_uv = sc_fit.add_property_map<SC_mesh::Vertex_index, SC::Point_2>("v:uv").first;
+  for (auto v : sc_fit.vertices()) sc_uv[v] = SC::Point_2(sc_fit.point(v).x(), sc_fit.point(v).y());
+  const auto re = meshfit::fit_template_to_curves(epick_fit, in.network, in.pairs, mp::default_values().number_of_iterations(10));
+  const auto rs = meshfit::fit_template_to_curves(sc_fit, in.network, in.pairs,
+                                                  mp::default_values().number_of_iterations(10).geom_traits(SC()).vertex_texture_map(sc_uv));
+  CHECK(rs.verification.passed());
+  CHECK(rs.vertices == re.vertices);
+  CHECK(same(epick_fit, sc_fit));
+  // The template's vertices keep their UVs; the added ones get finite values.
+  std::size_t i = 0;
+  for (auto v : sc_fit.vertices()) {
+    if (i < sc_template.number_of_vertices())
+      CHECK(sc_uv[v] == SC::Point_2(sc_template.point(v).x(), sc_template.point(v).y()));
+    else
+      CHECK((std::isfinite(sc_uv[v].x()) && std::isfinite(sc_uv[v].y())));
+    ++i;
+  }
 }

@@ -507,26 +507,89 @@ TEST_CASE("io: every malformed ASE names its file, line and problem", "[io][ase]
 
 // ---- attributes read and not carried ------------------------------------------------------------
 
-TEST_CASE("io: the readers list the attributes they read and do not carry", "[io][attributes]") {
+TEST_CASE("io: the readers keep per-vertex texture coordinates, normals and colours, and list the attributes they drop",
+          "[io][attributes]") {
   meshfit::Mesh_read_report r;
-  SECTION("OBJ texture coordinates and normals") {
-    parse("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvn 0 0 1\nf 1/1/1 2/2/1 3/3/1\n", Mesh_format::obj, &r);
-    CHECK(r.dropped_attributes == std::vector<std::string>{"texture coordinates (vt)", "vertex normals (vn)"});
+  SECTION("OBJ texture coordinates and normals, one per vertex: kept") {
+    const Mesh_data m = parse("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0.5\nvt 0 1\nvn 0 0 1\nf 1/1/1 2/2/1 3/3/1\n",
+                              Mesh_format::obj, &r);
+    CHECK(r.dropped_attributes.empty());
+    CHECK(m.vertex_uvs == std::vector<std::array<double, 2>>{{0, 0}, {1, 0.5}, {0, 1}});
+    CHECK(m.vertex_normals == std::vector<std::array<double, 3>>{{0, 0, 1}, {0, 0, 1}, {0, 0, 1}});
+    CHECK(m.vertex_colors.empty());
   }
-  SECTION("OBJ vertex colours") {
-    parse("v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 1\nf 1 2 3\n", Mesh_format::obj, &r);
-    CHECK(r.dropped_attributes == std::vector<std::string>{"vertex colours (v x y z r g b)"});
+  SECTION("OBJ relative and v//vn indices") {
+    const Mesh_data m = parse("v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 1 0 0\nvn 0 1 0\nf 1//-2 2//-1 3//-1\n", Mesh_format::obj, &r);
+    CHECK(r.dropped_attributes.empty());
+    CHECK(m.vertex_normals == std::vector<std::array<double, 3>>{{1, 0, 0}, {0, 1, 0}, {0, 1, 0}});
+    CHECK(m.vertex_uvs.empty());
   }
-  SECTION("PLY normals, colours and texture coordinates") {
-    parse("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
-          "property float nx\nproperty float ny\nproperty float nz\nproperty uchar red\nproperty uchar green\n"
-          "property uchar blue\nproperty float s\nproperty float t\nproperty float quality\n"
-          "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
-          "0 0 0 0 0 1 255 0 0 0 0 1\n1 0 0 0 0 1 0 255 0 1 0 1\n0 1 0 0 0 1 0 0 255 0 1 1\n3 0 1 2\n",
-          Mesh_format::ply, &r);
-    CHECK(r.dropped_attributes == std::vector<std::string>{"vertex normals (nx ny nz)", "vertex colours (red green blue)",
-                                                           "texture coordinates (s t)",
-                                                           "other vertex properties (quality)"});
+  SECTION("OBJ texture seam (a vertex with two vt): dropped, said why") {
+    const Mesh_data m = parse("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvt 1 1\nvt 0.5 0.5\n"
+                              "f 1/1 2/2 3/3\nf 2/5 4/4 3/3\n",
+                              Mesh_format::obj, &r);
+    CHECK(r.dropped_attributes == std::vector<std::string>{"texture coordinates (vt), not one per vertex"});
+    CHECK(m.vertex_uvs.empty());
+  }
+  SECTION("OBJ vt index past the last one") {
+    require_invalid([] { parse("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/2\n", Mesh_format::obj); }, 5,
+                    "texture coordinate index 2 refers past the last one");
+  }
+  SECTION("OBJ vertex colours: kept when every vertex has one") {
+    Mesh_data m = parse("v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 0.5\nf 1 2 3\n", Mesh_format::obj, &r);
+    CHECK(r.dropped_attributes.empty());
+    CHECK(m.vertex_colors == std::vector<std::array<double, 4>>{{1, 0, 0, 1}, {0, 1, 0, 1}, {0, 0, 0.5, 1}});
+    m = parse("v 0 0 0 1 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", Mesh_format::obj, &r);
+    CHECK(r.dropped_attributes == std::vector<std::string>{"vertex colours (v x y z r g b), not on every vertex"});
+    CHECK(m.vertex_colors.empty());
+  }
+  SECTION("PLY normals, colours and texture coordinates: kept; other properties dropped") {
+    const Mesh_data m =
+        parse("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+              "property float nx\nproperty float ny\nproperty float nz\nproperty uchar red\nproperty uchar green\n"
+              "property uchar blue\nproperty float s\nproperty float t\nproperty float quality\n"
+              "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+              "0 0 0 0 0 1 255 0 0 0 0 1\n1 0 0 0 0 1 0 255 0 1 0 1\n0 1 0 0 0 1 0 0 51 0 1 1\n3 0 1 2\n",
+              Mesh_format::ply, &r);
+    CHECK(r.dropped_attributes == std::vector<std::string>{"other vertex properties (quality)"});
+    CHECK(m.vertex_normals == std::vector<std::array<double, 3>>{{0, 0, 1}, {0, 0, 1}, {0, 0, 1}});
+    CHECK(m.vertex_colors == std::vector<std::array<double, 4>>{{1, 0, 0, 1}, {0, 1, 0, 1}, {0, 0, 0.2, 1}});
+    CHECK(m.vertex_uvs == std::vector<std::array<double, 2>>{{0, 0}, {1, 0}, {0, 1}});
+  }
+  SECTION("PLY incomplete sets (u without v, nx ny without nz): dropped") {
+    const Mesh_data m =
+        parse("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+              "property float u\nproperty float nx\nproperty float ny\n"
+              "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+              "0 0 0 0 0 1\n1 0 0 1 0 1\n0 1 0 0 0 1\n3 0 1 2\n",
+              Mesh_format::ply, &r);
+    CHECK(r.dropped_attributes == std::vector<std::string>{"vertex normals (nx ny)", "texture coordinates (u)"});
+    CHECK(m.vertex_uvs.empty());
+    CHECK(m.vertex_normals.empty());
+  }
+  SECTION("written and read back: OBJ and PLY (ASCII and binary) keep them exactly; colours as bytes") {
+    Mesh_data m = octahedron();
+    for (std::size_t i = 0; i < m.points.size(); ++i) {
+      m.vertex_uvs.push_back({0.1 * double(i), 1.0 / 3 + double(i)});
+      m.vertex_normals.push_back({m.points[i].x(), m.points[i].y(), m.points[i].z()});
+      m.vertex_colors.push_back({double(i) / 5, 1 - double(i) / 5, 0.2, 1});
+    }
+    for (const Mesh_format f : {Mesh_format::obj, Mesh_format::ply}) {
+      const Mesh_data back = parse(to_text(m, f), f, &r);
+      CHECK(r.dropped_attributes.empty());
+      CHECK(back.vertex_uvs == m.vertex_uvs);
+      CHECK(back.vertex_normals == m.vertex_normals);
+      REQUIRE(back.vertex_colors.size() == m.vertex_colors.size());
+      for (std::size_t i = 0; i < m.vertex_colors.size(); ++i)
+        for (int k = 0; k < 4; ++k)
+          CHECK(std::abs(back.vertex_colors[i][k] - m.vertex_colors[i][k]) <= (f == Mesh_format::ply ? 0.5 / 255 + 1e-12 : 0));
+    }
+    std::ostringstream binary;
+    meshfit::write_mesh_data(binary, Mesh_format::ply, m, meshfit::Ply_encoding::binary_little_endian);
+    const Mesh_data back = parse(binary.str(), Mesh_format::ply, &r);
+    CHECK(back.vertex_uvs == m.vertex_uvs);
+    CHECK(back.vertex_normals == m.vertex_normals);
+    CHECK(back.vertex_colors.size() == m.vertex_colors.size());
   }
   SECTION("COFF, NOFF, STOFF") {
     parse("COFF\n3 1 0\n0 0 0 1 0 0 1\n1 0 0 0 1 0 1\n0 1 0 0 0 1 1\n3 0 1 2\n", Mesh_format::off, &r);

@@ -20,6 +20,7 @@
 #include <meshfit/exceptions.h>
 #include <meshfit/flip.h>
 #include <meshfit/internal/clear_mesh.h>
+#include <meshfit/internal/commit_result.h>
 #include <meshfit/internal/resample_network.h>
 #include <meshfit/internal/stage_support.h>
 #include <meshfit/internal/subdivide.h>
@@ -202,50 +203,11 @@ inline std::string remaining_flips_message(const Deformation_report& r) {
 namespace meshfit {
 
 
-/// Coarse level: moves every vertex of `tm` with the RBF interpolant through the user's `pairs`
-/// (template vertex position → network vertex). Vertex i is the i-th of vertices(tm).
-/// The orientation is the sign of the RBF's affine part; on an open template that faces one way
-/// (a disc, a patch) it is the pairs' layout along the template that decides it, not how their
-/// heights across it correlate (Rbf_interpolant::fit with `orientation_from_layout`).
-/// \tparam TriangleMesh a model of `MutableFaceGraph` (tested: CGAL::Surface_mesh, CGAL::Polyhedron_3)
-/// \tparam NamedParameters a sequence of named parameters (CGAL's or meshfit's)
-/// \param tm the template, moved in place
-/// \param network the curve network
-/// \param pairs the user's pairs: template vertex i (the i-th of `vertices(tm)`) → network vertex
-/// \param np an optional sequence of named parameters among the ones listed below
-/// \return the coarse figures (coarse_fit, coarse_flipped_faces, orientation_reversed, …);
-///         `mesh_vertex_of_network_vertex` holds the user's pairs only
-///
-/// \cgalNamedParamsBegin
-///   \cgalParamNBegin{vertex_point_map}
-///     \cgalParamDescription{a property map associating points to the vertices of `tm`}
-///     \cgalParamType{a class model of `ReadWritePropertyMap` with
-///       `boost::graph_traits<TriangleMesh>::%vertex_descriptor` as key type and
-///       meshfit::Point_3 as value type}
-///     \cgalParamDefault{`boost::get(CGAL::vertex_point, tm)`}
-///     \cgalParamExtra{If this parameter is omitted, an internal property map for `CGAL::vertex_point_t` must be
-///       available in `TriangleMesh`.}
-///   \cgalParamNEnd
-///   \cgalParamNBegin{rbf_kernel}
-///     \cgalParamDescription{the basis function φ of the coarse interpolant (rbf.h)}
-///     \cgalParamType{meshfit::Rbf_kernel}
-///     \cgalParamDefault{`meshfit::Rbf_kernel::linear` (φ(r) = r)}
-///   \cgalParamNEnd
-///   \cgalParamNBegin{progress}
-///     \cgalParamDescription{a callback called at each step with a meshfit::Progress_step (stage `"deform"`)}
-///     \cgalParamType{a callable taking `const meshfit::Progress_step&` and returning `bool` (`false` cancels) or
-///       `void` (never cancels)}
-///     \cgalParamDefault{none: no calls, no cancelling}
-///     \cgalParamExtra{When it returns `false`, the stage throws meshfit::Algorithm_failure.}
-///   \cgalParamNEnd
-/// \cgalNamedParamsEnd
-///
-/// \throws Invalid_input for pairs out of range or an RBF that they cannot define (see
-///         Rbf_interpolant::fit); Numerical_error when the solve fails.
-template <typename TriangleMesh, typename NamedParameters = CGAL::parameters::Default_named_parameters>
-Deformation_report deform_coarse(TriangleMesh& tm, const Curve_network& network,
-                                 const std::vector<Correspondence>& pairs,
-                                 const NamedParameters& np = CGAL::parameters::default_values()) {
+namespace internal {
+/// deform_coarse on `tm` itself. For meshes the pipeline owns (a Stage_copy, fit's copy).
+template <typename TriangleMesh, typename NamedParameters>
+Deformation_report deform_coarse_in_place(TriangleMesh& tm, const Curve_network& network,
+                                          const std::vector<Correspondence>& pairs, const NamedParameters& np) {
   using CGAL::parameters::choose_parameter;
   using CGAL::parameters::get_parameter;
   const auto t0 = std::chrono::steady_clock::now();
@@ -306,25 +268,24 @@ Deformation_report deform_coarse(TriangleMesh& tm, const Curve_network& network,
   for (const Correspondence& c : pairs) report.mesh_vertex_of_network_vertex[c.network_vertex] = c.template_vertex;
   return report;
 }
+}  // namespace internal
 
-/// Fine level, on a template already roughly in place (deform_coarse): pairs every network vertex
-/// with its nearest template vertex (user `pairs` are kept), fits an RBF through all pairs and
-/// moves the template so that each paired vertex lies exactly on its network vertex. When the
-/// motion would flip faces (exact flip counter, judged against the positions before this call),
-/// the network vertices pulling them get mesh vertices of their own at their nearest points on the
-/// surface (local subdivision), and everything is redone, for at most `flip_prevention_rounds`
-/// rounds (default 10); `report.remaining_flips` tells whether that was enough. With
-/// Curve_density::refine (default) network vertices that lost their nearest template vertex get a
-/// vertex the same way; with Curve_density::drop they are dropped (reported), and only flip
-/// prevention adds vertices. New vertices come after the existing ones. Vertices of no face play
-/// no part (no pair, no motion).
-/// \tparam TriangleMesh a model of `MutableFaceGraph` (tested: CGAL::Surface_mesh, CGAL::Polyhedron_3)
+/// Coarse level: moves every vertex of `tm` with the RBF interpolant through the user's `pairs`
+/// (template vertex position → network vertex). Vertex i is the i-th of vertices(tm).
+/// The orientation is the sign of the RBF's affine part; on an open template that faces one way
+/// (a disc, a patch) it is the pairs' layout along the template that decides it, not how their
+/// heights across it correlate (Rbf_interpolant::fit with `orientation_from_layout`).
+/// The work is done on a copy of `tm` and written into it when complete, as by deform_template.
+/// \tparam TriangleMesh a model of `MutableFaceGraph` (tested: CGAL::Surface_mesh, CGAL::Polyhedron_3) whose
+///         points have double Cartesian coordinates (any Cartesian kernel over double, e.g. Epick,
+///         Simple_cartesian<double>; an exact kernel is refused at compile time)
 /// \tparam NamedParameters a sequence of named parameters (CGAL's or meshfit's)
 /// \param tm the template, moved in place
 /// \param network the curve network
 /// \param pairs the user's pairs: template vertex i (the i-th of `vertices(tm)`) → network vertex
 /// \param np an optional sequence of named parameters among the ones listed below
-/// \return the fine figures (fine_fit, flip_rounds, faces_subdivided, remaining_flips, …)
+/// \return the coarse figures (coarse_fit, coarse_flipped_faces, orientation_reversed, …);
+///         `mesh_vertex_of_network_vertex` holds the user's pairs only
 ///
 /// \cgalNamedParamsBegin
 ///   \cgalParamNBegin{vertex_point_map}
@@ -337,26 +298,9 @@ Deformation_report deform_coarse(TriangleMesh& tm, const Curve_network& network,
 ///       available in `TriangleMesh`.}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{rbf_kernel}
-///     \cgalParamDescription{the basis function φ of the fine interpolant (rbf.h)}
+///     \cgalParamDescription{the basis function φ of the coarse interpolant (rbf.h)}
 ///     \cgalParamType{meshfit::Rbf_kernel}
 ///     \cgalParamDefault{`meshfit::Rbf_kernel::linear` (φ(r) = r)}
-///   \cgalParamNEnd
-///   \cgalParamNBegin{curve_density}
-///     \cgalParamDescription{what becomes of a network vertex whose nearest template vertex is taken by another}
-///     \cgalParamType{meshfit::Curve_density}
-///     \cgalParamDefault{`meshfit::Curve_density::refine` (it gets a vertex of its own)}
-///   \cgalParamNEnd
-///   \cgalParamNBegin{flip_prevention_rounds}
-///     \cgalParamDescription{the most rounds of flip prevention (detection, local subdivision, a new fit)}
-///     \cgalParamType{an integer type}
-///     \cgalParamDefault{`10`}
-///     \cgalParamExtra{A negative value throws meshfit::Invalid_input.}
-///   \cgalParamNEnd
-///   \cgalParamNBegin{memory_limit}
-///     \cgalParamDescription{the most bytes the dense RBF system of the fine level (Fine_level::thesis) may take;
-///       a larger system is refused with meshfit::Algorithm_failure before it is allocated}
-///     \cgalParamType{`std::size_t`}
-///     \cgalParamDefault{`0`, which means meshfit::default_memory_limit() (an eighth of the physical memory)}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{progress}
 ///     \cgalParamDescription{a callback called at each step with a meshfit::Progress_step (stage `"deform"`)}
@@ -367,16 +311,23 @@ Deformation_report deform_coarse(TriangleMesh& tm, const Curve_network& network,
 ///   \cgalParamNEnd
 /// \cgalNamedParamsEnd
 ///
-/// \throws Invalid_input for pairs out of range or that define no interpolant, or a negative
-///         `flip_prevention_rounds`.
-/// \throws Numerical_error when a solve fails.
-/// \throws Algorithm_failure before any work when a polyline lies entirely far from the template
-///         (internal::check_polylines_near); when the dense RBF would exceed `memory_limit`; when
-///         flip prevention would grow the mesh past 8 × (template + network vertices).
+/// \throws Invalid_input for pairs out of range or an RBF that they cannot define (see
+///         Rbf_interpolant::fit); Numerical_error when the solve fails.
 template <typename TriangleMesh, typename NamedParameters = CGAL::parameters::Default_named_parameters>
-Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
-                               const std::vector<Correspondence>& pairs,
-                               const NamedParameters& np = CGAL::parameters::default_values()) {
+Deformation_report deform_coarse(TriangleMesh& tm, const Curve_network& network,
+                                 const std::vector<Correspondence>& pairs,
+                                 const NamedParameters& np = CGAL::parameters::default_values()) {
+  return internal::run_on_copy(tm, np, [&](internal::Work_mesh& work, const auto& work_np) {
+    return internal::deform_coarse_in_place(work, network, pairs, work_np);
+  });
+}
+
+namespace internal {
+/// deform_fine on `tm` itself: the mesh changes as the work goes (a cancel or a failure leaves it
+/// partly changed). For meshes the pipeline owns (a Stage_copy, fit's copy).
+template <typename TriangleMesh, typename NamedParameters>
+Deformation_report deform_fine_in_place(TriangleMesh& tm, const Curve_network& network,
+                                    const std::vector<Correspondence>& pairs, const NamedParameters& np) {
   using CGAL::parameters::choose_parameter;
   using CGAL::parameters::get_parameter;
   using GT = boost::graph_traits<TriangleMesh>;
@@ -546,55 +497,33 @@ Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
   report.faces = num_faces(tm);
   return report;
 }
+}  // namespace internal
 
-
-/// Fine level, Fine_level::surface, on a template already roughly in place (deform_coarse):
-///   0. a segment longer than twice the template's mean edge is cut into pieces of about one edge
-///      (points on the segment), unless both its ends lie near the border (as in step 1): a
-///      long straight segment's ends project onto a curved surface far from where its middle
-///      does, and the pieces follow the surface; the report speaks of the network's own
-///      vertices and segments (`network_points_added` counts the points). Then the surface is
-///      brought towards the curves: by non-rigid ICP (internal::approach_curves_icp: up to six
-///      least-squares steps of falling stiffness, each asking that the point of the surface
-///      tracked for every network vertex move onto it against the thin-plate energy of the
-///      motion, each untangled, halved while it leaves a face turned over or a new fold, and
-///      the last that cannot be made ending the approach);
-///   1. every network vertex gets a mesh vertex at (or near) its point on the surface, tracked
-///      along the curves from the user's pairs (internal::tracked_projections); the vertices of
-///      curves running along the border go onto the border (a curve runs along it when its
-///      nearest border points trace at least half its length), the other vertices stay off it;
-///      a face or an edge is split, or a template vertex already there reused; the user's pairs
-///      keep their template vertices;
-///   2. every segment becomes a chain of mesh edges on this surface, where nothing is folded:
-///      the border arc for a segment along the border, stage 2's insertion (partition_mesh on
-///      the network as projected) for the others, and the shortest edge path crossing no chain
-///      where that insertion refuses;
-///   3. the network vertices are moved onto their points, the inner vertices of each chain onto
-///      the segment, and every other vertex by the thin-plate displacement field through those
-///      motions (interpolate_displacements); when that leaves faces turned over or folded, the
-///      motion is made again in four equal parts, with step 4a's untangling after each;
-///   4. faces that turn over against the coarse surface's normals, or fold with a neighbour,
-///      are repaired: the free vertices around them are relaxed towards their neighbours' mean
-///      (up to 3 rings, for at most `flip_prevention_rounds` rounds, default 10, the best state
-///      kept), and an edge of a bad face whose corners are all held is flipped when both new
-///      faces are good. `report.remaining_flips` and `report.remaining_folds` are what is left.
-/// Vertices are added only in step 1 (at most one per network vertex and added point), after the
-/// existing ones. When steps 1-4 after the ICP approach leave defects (segments not embedded,
-/// faces turned over or folded), they run again from the coarse surface after the older approach
-/// (internal::approach_curves: the thin-plate field through the motions of the curves' surface
-/// points given to template vertices three edges apart, unless even an eighth of it turns a face
-/// over or folds an edge), and then without approach; the result with the fewest defects is kept
-/// (`approach`, `approach_retried`; the earlier on a tie). The mesh is then rebuilt in
-/// place, its vertices and faces in their order: the values of the caller's own properties on it
-/// are not kept.
-/// \tparam TriangleMesh a model of `MutableFaceGraph` (tested: CGAL::Surface_mesh, CGAL::Polyhedron_3)
+/// Fine level, on a template already roughly in place (deform_coarse): pairs every network vertex
+/// with its nearest template vertex (user `pairs` are kept), fits an RBF through all pairs and
+/// moves the template so that each paired vertex lies exactly on its network vertex. When the
+/// motion would flip faces (exact flip counter, judged against the positions before this call),
+/// the network vertices pulling them get mesh vertices of their own at their nearest points on the
+/// surface (local subdivision), and everything is redone, for at most `flip_prevention_rounds`
+/// rounds (default 10); `report.remaining_flips` tells whether that was enough. With
+/// Curve_density::refine (default) network vertices that lost their nearest template vertex get a
+/// vertex the same way; with Curve_density::drop they are dropped (reported), and only flip
+/// prevention adds vertices. New vertices come after the existing ones. Vertices of no face play
+/// no part (no pair, no motion).
+/// The work is done on a copy of `tm` (internal/commit_result.h): an exception (a cancel from the
+/// `progress` callback, Algorithm_failure, …) leaves `tm`, its property maps and their values as
+/// they were; on success the result is written into `tm` in place, as fit_template_to_curves does
+/// (a CGAL::Surface_mesh keeps its property maps with their values on the template's vertices, a
+/// CGAL::Polyhedron_3 its vertex handles; vertices added follow the template's).
+/// \tparam TriangleMesh a model of `MutableFaceGraph` (tested: CGAL::Surface_mesh, CGAL::Polyhedron_3) whose
+///         points have double Cartesian coordinates (any Cartesian kernel over double, e.g. Epick,
+///         Simple_cartesian<double>; an exact kernel is refused at compile time)
 /// \tparam NamedParameters a sequence of named parameters (CGAL's or meshfit's)
 /// \param tm the template, moved in place
 /// \param network the curve network
 /// \param pairs the user's pairs: template vertex i (the i-th of `vertices(tm)`) → network vertex
 /// \param np an optional sequence of named parameters among the ones listed below
-/// \return the fine figures (segments_embedded, embedding, displacement, untangle_rounds,
-///         remaining_flips, remaining_folds, …)
+/// \return the fine figures (fine_fit, flip_rounds, faces_subdivided, remaining_flips, …)
 ///
 /// \cgalNamedParamsBegin
 ///   \cgalParamNBegin{vertex_point_map}
@@ -606,34 +535,59 @@ Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
 ///     \cgalParamExtra{If this parameter is omitted, an internal property map for `CGAL::vertex_point_t` must be
 ///       available in `TriangleMesh`.}
 ///   \cgalParamNEnd
+///   \cgalParamNBegin{rbf_kernel}
+///     \cgalParamDescription{the basis function φ of the fine interpolant (rbf.h)}
+///     \cgalParamType{meshfit::Rbf_kernel}
+///     \cgalParamDefault{`meshfit::Rbf_kernel::linear` (φ(r) = r)}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{curve_density}
+///     \cgalParamDescription{what becomes of a network vertex whose nearest template vertex is taken by another}
+///     \cgalParamType{meshfit::Curve_density}
+///     \cgalParamDefault{`meshfit::Curve_density::refine` (it gets a vertex of its own)}
+///   \cgalParamNEnd
 ///   \cgalParamNBegin{flip_prevention_rounds}
-///     \cgalParamDescription{the most rounds of untangling (step 4)}
+///     \cgalParamDescription{the most rounds of flip prevention (detection, local subdivision, a new fit)}
 ///     \cgalParamType{an integer type}
 ///     \cgalParamDefault{`10`}
 ///     \cgalParamExtra{A negative value throws meshfit::Invalid_input.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{memory_limit}
+///     \cgalParamDescription{the most bytes the dense RBF system of the fine level (Fine_level::thesis) may take;
+///       a larger system is refused with meshfit::Algorithm_failure before it is allocated}
+///     \cgalParamType{`std::size_t`}
+///     \cgalParamDefault{`0`, which means meshfit::default_memory_limit() (an eighth of the physical memory)}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{progress}
 ///     \cgalParamDescription{a callback called at each step with a meshfit::Progress_step (stage `"deform"`)}
 ///     \cgalParamType{a callable taking `const meshfit::Progress_step&` and returning `bool` (`false` cancels) or
 ///       `void` (never cancels)}
 ///     \cgalParamDefault{none: no calls, no cancelling}
-///     \cgalParamExtra{When it returns `false`, the stage throws meshfit::Algorithm_failure. The embedding's insertion (step 2) reports its steps as this stage's.}
+///     \cgalParamExtra{When it returns `false`, the stage throws meshfit::Algorithm_failure.}
 ///   \cgalParamNEnd
 /// \cgalNamedParamsEnd
 ///
-/// \throws Invalid_input for pairs out of range, or two pairs that give one network vertex two
-///         template vertices (or the reverse), or a negative `flip_prevention_rounds`.
-/// \throws Numerical_error when the displacement solve fails.
-/// \throws Algorithm_failure, naming the polylines (1-based, in file order), before any work
-///         when: the network is not planar and the template has genus 0; a polyline lies entirely
-///         far from the coarse-deformed template (farther than a tenth of its size); segments of
-///         two polylines cross on the surface without a shared vertex (their projections cross
-///         and the segments pass within 1 % of their length of each other); two network vertices
-///         cannot be told apart on the surface (curves denser than the template).
+/// \throws Invalid_input for pairs out of range or that define no interpolant, or a negative
+///         `flip_prevention_rounds`.
+/// \throws Numerical_error when a solve fails.
+/// \throws Algorithm_failure before any work when a polyline lies entirely far from the template
+///         (internal::check_polylines_near); when the dense RBF would exceed `memory_limit`; when
+///         flip prevention would grow the mesh past 8 × (template + network vertices).
 template <typename TriangleMesh, typename NamedParameters = CGAL::parameters::Default_named_parameters>
-Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network& network,
-                                          const std::vector<Correspondence>& pairs,
-                                          const NamedParameters& np = CGAL::parameters::default_values()) {
+Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
+                               const std::vector<Correspondence>& pairs,
+                               const NamedParameters& np = CGAL::parameters::default_values()) {
+  return internal::run_on_copy(tm, np, [&](internal::Work_mesh& work, const auto& work_np) {
+    return internal::deform_fine_in_place(work, network, pairs, work_np);
+  });
+}
+
+
+namespace internal {
+/// deform_fine_on_surface on `tm` itself: the mesh changes as the work goes (a cancel or a failure leaves it
+/// partly changed). For meshes the pipeline owns (a Stage_copy, fit's copy).
+template <typename TriangleMesh, typename NamedParameters>
+Deformation_report deform_fine_on_surface_in_place(TriangleMesh& tm, const Curve_network& network,
+                                    const std::vector<Correspondence>& pairs, const NamedParameters& np) {
   auto vpm = internal::vertex_point_map_of(tm, np);
   internal::check_pairs(pairs, num_vertices(tm), num_faces(tm), network);
   const double h = internal::mean_edge_length(tm, vpm);
@@ -754,6 +708,8 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
     std::optional<Deformation_report> r;
     try {
       r = run();
+    } catch (const Cancelled&) {
+      throw;  // the caller's cancel, not a failure of this start
     } catch (const Algorithm_failure&) {
       // The last start's reason (from the coarse surface as it is) is said rather than a result
       // with defects kept.
@@ -774,6 +730,103 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
   }
   if (best_mesh) restore(*best_mesh);
   return *best;
+}
+}  // namespace internal
+
+/// Fine level, Fine_level::surface, on a template already roughly in place (deform_coarse):
+///   0. a segment longer than twice the template's mean edge is cut into pieces of about one edge
+///      (points on the segment), unless both its ends lie near the border (as in step 1): a
+///      long straight segment's ends project onto a curved surface far from where its middle
+///      does, and the pieces follow the surface; the report speaks of the network's own
+///      vertices and segments (`network_points_added` counts the points). Then the surface is
+///      brought towards the curves: by non-rigid ICP (internal::approach_curves_icp: up to six
+///      least-squares steps of falling stiffness, each asking that the point of the surface
+///      tracked for every network vertex move onto it against the thin-plate energy of the
+///      motion, each untangled, halved while it leaves a face turned over or a new fold, and
+///      the last that cannot be made ending the approach);
+///   1. every network vertex gets a mesh vertex at (or near) its point on the surface, tracked
+///      along the curves from the user's pairs (internal::tracked_projections); the vertices of
+///      curves running along the border go onto the border (a curve runs along it when its
+///      nearest border points trace at least half its length), the other vertices stay off it;
+///      a face or an edge is split, or a template vertex already there reused; the user's pairs
+///      keep their template vertices;
+///   2. every segment becomes a chain of mesh edges on this surface, where nothing is folded:
+///      the border arc for a segment along the border, stage 2's insertion (partition_mesh on
+///      the network as projected) for the others, and the shortest edge path crossing no chain
+///      where that insertion refuses;
+///   3. the network vertices are moved onto their points, the inner vertices of each chain onto
+///      the segment, and every other vertex by the thin-plate displacement field through those
+///      motions (interpolate_displacements); when that leaves faces turned over or folded, the
+///      motion is made again in four equal parts, with step 4a's untangling after each;
+///   4. faces that turn over against the coarse surface's normals, or fold with a neighbour,
+///      are repaired: the free vertices around them are relaxed towards their neighbours' mean
+///      (up to 3 rings, for at most `flip_prevention_rounds` rounds, default 10, the best state
+///      kept), and an edge of a bad face whose corners are all held is flipped when both new
+///      faces are good. `report.remaining_flips` and `report.remaining_folds` are what is left.
+/// Vertices are added only in step 1 (at most one per network vertex and added point), after the
+/// existing ones. When steps 1-4 after the ICP approach leave defects (segments not embedded,
+/// faces turned over or folded), they run again from the coarse surface after the older approach
+/// (internal::approach_curves: the thin-plate field through the motions of the curves' surface
+/// points given to template vertices three edges apart, unless even an eighth of it turns a face
+/// over or folds an edge), and then without approach; the result with the fewest defects is kept
+/// (`approach`, `approach_retried`; the earlier on a tie).
+/// The work is done on a copy of `tm` (internal/commit_result.h): an exception (a cancel from the
+/// `progress` callback, Algorithm_failure, …) leaves `tm`, its property maps and their values as
+/// they were; on success the result is written into `tm` in place, as fit_template_to_curves does
+/// (a CGAL::Surface_mesh keeps its property maps with their values on the template's vertices, a
+/// CGAL::Polyhedron_3 its vertex handles; vertices added follow the template's).
+/// \tparam TriangleMesh a model of `MutableFaceGraph` (tested: CGAL::Surface_mesh, CGAL::Polyhedron_3) whose
+///         points have double Cartesian coordinates (any Cartesian kernel over double, e.g. Epick,
+///         Simple_cartesian<double>; an exact kernel is refused at compile time)
+/// \tparam NamedParameters a sequence of named parameters (CGAL's or meshfit's)
+/// \param tm the template, moved in place
+/// \param network the curve network
+/// \param pairs the user's pairs: template vertex i (the i-th of `vertices(tm)`) → network vertex
+/// \param np an optional sequence of named parameters among the ones listed below
+/// \return the fine figures (segments_embedded, embedding, displacement, untangle_rounds,
+///         remaining_flips, remaining_folds, …)
+///
+/// \cgalNamedParamsBegin
+///   \cgalParamNBegin{vertex_point_map}
+///     \cgalParamDescription{a property map associating points to the vertices of `tm`}
+///     \cgalParamType{a class model of `ReadWritePropertyMap` with
+///       `boost::graph_traits<TriangleMesh>::%vertex_descriptor` as key type and
+///       meshfit::Point_3 as value type}
+///     \cgalParamDefault{`boost::get(CGAL::vertex_point, tm)`}
+///     \cgalParamExtra{If this parameter is omitted, an internal property map for `CGAL::vertex_point_t` must be
+///       available in `TriangleMesh`.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{flip_prevention_rounds}
+///     \cgalParamDescription{the most rounds of untangling (step 4)}
+///     \cgalParamType{an integer type}
+///     \cgalParamDefault{`10`}
+///     \cgalParamExtra{A negative value throws meshfit::Invalid_input.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{progress}
+///     \cgalParamDescription{a callback called at each step with a meshfit::Progress_step (stage `"deform"`)}
+///     \cgalParamType{a callable taking `const meshfit::Progress_step&` and returning `bool` (`false` cancels) or
+///       `void` (never cancels)}
+///     \cgalParamDefault{none: no calls, no cancelling}
+///     \cgalParamExtra{When it returns `false`, the stage throws meshfit::Algorithm_failure. The embedding's insertion (step 2) reports its steps as this stage's.}
+///   \cgalParamNEnd
+/// \cgalNamedParamsEnd
+///
+/// \throws Invalid_input for pairs out of range, or two pairs that give one network vertex two
+///         template vertices (or the reverse), or a negative `flip_prevention_rounds`.
+/// \throws Numerical_error when the displacement solve fails.
+/// \throws Algorithm_failure, naming the polylines (1-based, in file order), before any work
+///         when: the network is not planar and the template has genus 0; a polyline lies entirely
+///         far from the coarse-deformed template (farther than a tenth of its size); segments of
+///         two polylines cross on the surface without a shared vertex (their projections cross
+///         and the segments pass within 1 % of their length of each other); two network vertices
+///         cannot be told apart on the surface (curves denser than the template).
+template <typename TriangleMesh, typename NamedParameters = CGAL::parameters::Default_named_parameters>
+Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network& network,
+                                          const std::vector<Correspondence>& pairs,
+                                          const NamedParameters& np = CGAL::parameters::default_values()) {
+  return internal::run_on_copy(tm, np, [&](internal::Work_mesh& work, const auto& work_np) {
+    return internal::deform_fine_on_surface_in_place(work, network, pairs, work_np);
+  });
 }
 
 namespace internal {
@@ -801,12 +854,12 @@ Deformation_report deform_template_unscaled(TriangleMesh& tm, const Curve_networ
       ++subdivisions;
     }
   }
-  Deformation_report coarse = deform_coarse(tm, network, pairs, np);
+  Deformation_report coarse = deform_coarse_in_place(tm, network, pairs, np);
   coarse.template_subdivisions = subdivisions;
   if (coarse.orientation_reversed || coarse_only) return coarse;
   if (surface_refined) refuse_oversampled_curves(tm, vertex_point_map_of(tm, np), network, subdivisions);
-  Deformation_report fine = level == Fine_level::surface ? deform_fine_on_surface(tm, network, pairs, np)
-                                                         : deform_fine(tm, network, pairs, np);
+  Deformation_report fine = level == Fine_level::surface ? deform_fine_on_surface_in_place(tm, network, pairs, np)
+                                                         : deform_fine_in_place(tm, network, pairs, np);
   fine.coarse_fit = coarse.coarse_fit;
   fine.coarse_seconds = coarse.coarse_seconds;
   fine.coarse_flipped_faces = coarse.coarse_flipped_faces;
@@ -814,6 +867,32 @@ Deformation_report deform_template_unscaled(TriangleMesh& tm, const Curve_networ
   fine.coarse_affine_determinant = coarse.coarse_affine_determinant;
   fine.template_subdivisions = subdivisions;
   return fine;
+}
+}  // namespace internal
+
+namespace internal {
+/// deform_template on `tm` itself: the mesh changes as the work goes (a cancel or a failure leaves it
+/// partly changed). For meshes the pipeline owns (a Stage_copy, fit's copy).
+template <typename TriangleMesh, typename NamedParameters>
+Deformation_report deform_template_in_place(TriangleMesh& tm, const Curve_network& network,
+                                    const std::vector<Correspondence>& pairs, const NamedParameters& np) {
+  const auto vpm = internal::vertex_point_map_of(tm, np);
+  Bbox_3 box = internal::checked_template_box(tm, vpm);
+  box += network.bbox();
+  const double s = internal::unit_scale(box);
+  if (s == 1) return internal::deform_template_unscaled(tm, network, pairs, np);
+  const Curve_network unit_network = internal::scaled(network, s);
+  internal::scale_points(tm, vpm, s);
+  Deformation_report r;
+  try {
+    r = internal::deform_template_unscaled(tm, unit_network, pairs, np);
+  } catch (...) {
+    internal::scale_points(tm, vpm, 1 / s);
+    throw;
+  }
+  internal::scale_points(tm, vpm, 1 / s);
+  r.largest_projection_distance /= s;
+  return r;
 }
 }  // namespace internal
 
@@ -828,7 +907,14 @@ Deformation_report deform_template_unscaled(TriangleMesh& tm, const Curve_networ
 /// decides (the command line fails with exit status 3).
 /// The levels run on the inputs scaled by a power of two to a unit-sized box (exact; see
 /// coordinate_range.h), so the result does not depend on the unit of the coordinates.
-/// \tparam TriangleMesh a model of `MutableFaceGraph` (tested: CGAL::Surface_mesh, CGAL::Polyhedron_3)
+/// The work is done on a copy of `tm` (internal/commit_result.h): an exception (a cancel from the
+/// `progress` callback, Algorithm_failure, …) leaves `tm`, its property maps and their values as
+/// they were; on success the result is written into `tm` in place, as fit_template_to_curves does
+/// (a CGAL::Surface_mesh keeps its property maps with their values on the template's vertices, a
+/// CGAL::Polyhedron_3 its vertex handles; vertices added follow the template's).
+/// \tparam TriangleMesh a model of `MutableFaceGraph` (tested: CGAL::Surface_mesh, CGAL::Polyhedron_3) whose
+///         points have double Cartesian coordinates (any Cartesian kernel over double, e.g. Epick,
+///         Simple_cartesian<double>; an exact kernel is refused at compile time)
 /// \tparam NamedParameters a sequence of named parameters (CGAL's or meshfit's)
 /// \param tm the template, moved in place
 /// \param network the curve network
@@ -896,23 +982,9 @@ template <typename TriangleMesh, typename NamedParameters = CGAL::parameters::De
 Deformation_report deform_template(TriangleMesh& tm, const Curve_network& network,
                                    const std::vector<Correspondence>& pairs,
                                    const NamedParameters& np = CGAL::parameters::default_values()) {
-  const auto vpm = internal::vertex_point_map_of(tm, np);
-  Bbox_3 box = internal::checked_template_box(tm, vpm);
-  box += network.bbox();
-  const double s = internal::unit_scale(box);
-  if (s == 1) return internal::deform_template_unscaled(tm, network, pairs, np);
-  const Curve_network unit_network = internal::scaled(network, s);
-  internal::scale_points(tm, vpm, s);
-  Deformation_report r;
-  try {
-    r = internal::deform_template_unscaled(tm, unit_network, pairs, np);
-  } catch (...) {
-    internal::scale_points(tm, vpm, 1 / s);
-    throw;
-  }
-  internal::scale_points(tm, vpm, 1 / s);
-  r.largest_projection_distance /= s;
-  return r;
+  return internal::run_on_copy(tm, np, [&](internal::Work_mesh& work, const auto& work_np) {
+    return internal::deform_template_in_place(work, network, pairs, work_np);
+  });
 }
 
 

@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace meshfit {
 
@@ -74,6 +75,15 @@ class Algorithm_failure : public std::runtime_error {
 
  private:
   std::string m_stage, m_reason;
+};
+
+/// Thrown when the `progress` callback returns `false`: the caller cancelled the stage. An
+/// Algorithm_failure (reason "cancelled by the progress callback"), so that code catching those
+/// sees it; the stages never take it for a failure of their own to recover from.
+class Cancelled : public Algorithm_failure {
+ public:
+  /// what() is `stage + ": cancelled by the progress callback"`.
+  explicit Cancelled(std::string stage) : Algorithm_failure(std::move(stage), "cancelled by the progress callback") {}
 };
 
 }  // namespace meshfit

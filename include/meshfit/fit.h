@@ -235,7 +235,9 @@ void put_extended_attribute(const Map& map, const VertexRange& vertex_of, std::s
 ///   with the template's normals, which keep the caller's values even where the surface moved;
 ///   call PMP::compute_vertex_normals after for geometric ones); where the extension cancels out,
 ///   the result's geometric normal is taken.
-/// \tparam TriangleMesh a model of `MutableFaceGraph` (tested: CGAL::Surface_mesh, CGAL::Polyhedron_3)
+/// \tparam TriangleMesh a model of `MutableFaceGraph` (tested: CGAL::Surface_mesh, CGAL::Polyhedron_3) whose
+///         points have double Cartesian coordinates (any Cartesian kernel over double, e.g. Epick,
+///         Simple_cartesian<double>; an exact kernel is refused at compile time)
 /// \tparam NamedParameters a sequence of named parameters (CGAL's or meshfit's)
 /// \param tm the template; the result is written into it (in place, as above) when every stage
 ///        and the verification completed
@@ -386,6 +388,16 @@ Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& input_n
   const bool check_self_intersections =
       choose_parameter(get_parameter(np, internal_np::check_self_intersections), true);
   const auto vpm = internal::vertex_point_map_of(tm, np);
+  // CGAL's functions called on `tm` itself (the template's self-intersection test, geometric
+  // normals of added vertices) get the caller's geom_traits when given; the stages compute on
+  // meshfit's copy in meshfit's kernel.
+  const auto tm_np = [&] {
+    const auto gt = get_parameter(np, CGAL::internal_np::geom_traits);
+    if constexpr (internal::is_given_v<decltype(gt)>)
+      return CGAL::parameters::vertex_point_map(vpm).geom_traits(gt);
+    else
+      return CGAL::parameters::vertex_point_map(vpm);
+  }();
 
   Fit_report report;
   report.template_vertices = num_vertices(tm);
@@ -400,7 +412,9 @@ Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& input_n
   const double unit = internal::unit_scale(box);
   const Curve_network scaled_network = unit == 1 ? Curve_network() : internal::scaled(input_network, unit);
   const Curve_network& network = unit == 1 ? input_network : scaled_network;
-  TriangleMesh work;
+  // (A Work_mesh whatever TriangleMesh is: the caller's points may be of any Cartesian kernel over
+  // double.)
+  internal::Work_mesh work;
   {
     Mesh_data data = to_mesh_data(tm, CGAL::parameters::vertex_point_map(vpm));
     for (Point_3& p : data.points) p = internal::scaled(p, unit);
@@ -409,7 +423,8 @@ Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& input_n
   const auto wvpm = get(CGAL::vertex_point, work);
 
   auto t = std::chrono::steady_clock::now();
-  report.deformation = deform_template(
+  // The stages work on `work` itself (their public forms would copy it again).
+  report.deformation = internal::deform_template_in_place(
       work, network, pairs,
       parameters::rbf_kernel(kernel)
           .curve_density(density)
@@ -428,7 +443,7 @@ Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& input_n
   t = std::chrono::steady_clock::now();
   auto curve = get(CGAL::dynamic_edge_property_t<bool>(), work);
   auto region = get(CGAL::dynamic_face_property_t<std::size_t>(), work);
-  report.partition = partition_mesh(
+  report.partition = internal::partition_mesh_in_place(
       work, network, parameters::progress(progress).edge_is_constrained_map(curve).face_patch_map(region));
   report.partition_seconds = internal::seconds_since(t);
   report.mesh_vertex_of_network_vertex = report.partition.mesh_vertex_of_network_vertex;
@@ -462,7 +477,7 @@ Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& input_n
   t = std::chrono::steady_clock::now();
   internal::report_progress(progress, "fit", "verifying the result", 0, 1);
   Fit_verification& v = report.verification;
-  std::vector<typename GT::vertex_descriptor> vertex_of;
+  std::vector<internal::Work_mesh::Vertex_index> vertex_of;
   for (auto w : vertices(work)) vertex_of.push_back(w);
   v.network_vertices = network.number_of_vertices();
   for (std::size_t k = 0; k < network.number_of_vertices(); ++k)
@@ -490,7 +505,7 @@ Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& input_n
     v.self_intersection_checked = true;
     v.self_intersects = CGAL::Polygon_mesh_processing::does_self_intersect(work);
     v.template_self_intersects =
-        v.self_intersects && CGAL::Polygon_mesh_processing::does_self_intersect(tm, CGAL::parameters::vertex_point_map(vpm));
+        v.self_intersects && CGAL::Polygon_mesh_processing::does_self_intersect(tm, tm_np);
   }
   report.verify_seconds = internal::seconds_since(t);
   report.vertices = num_vertices(work);
@@ -530,19 +545,14 @@ Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& input_n
       geometric_normal[k] = true;
   }
 
-  internal::Committed_elements<TriangleMesh> committed;
-  if constexpr (internal::Is_surface_mesh<TriangleMesh>::value)
-    committed = internal::commit_surface_mesh(work, result.points, tm, vpm);
-  else
-    committed = internal::commit_face_graph(result.points, result.triangles, tm, vpm);
+  const internal::Committed_elements<TriangleMesh> committed = internal::commit_work(work, result, tm, vpm);
   internal::put_patches_and_curves(result, tm, committed.vertex_of, committed.face_of, np);
   internal::put_extended_attribute<internal::Texture_channels>(texture_map, committed.vertex_of, nt, uvs);
   internal::put_extended_attribute<internal::Color_channels>(color_map, committed.vertex_of, nt, colors);
   if constexpr (internal::is_given_v<decltype(normal_map)>) {
     for (std::size_t k = nt; k < normals.size(); ++k)
       if (geometric_normal[k]) {
-        const auto n = CGAL::Polygon_mesh_processing::compute_vertex_normal(committed.vertex_of[k], tm,
-                                                                            CGAL::parameters::vertex_point_map(vpm));
+        const auto n = CGAL::Polygon_mesh_processing::compute_vertex_normal(committed.vertex_of[k], tm, tm_np);
         normals[k] = {double(n.x()), double(n.y()), double(n.z())};
       }
     internal::put_extended_attribute<internal::Normal_channels>(normal_map, committed.vertex_of, nt, normals);

@@ -54,6 +54,15 @@ struct Mesh_data {
   std::vector<std::array<std::size_t, 3>> triangles;   ///< corners as indices into points
   std::vector<int> face_patch;  ///< empty, or one region index per triangle
   std::vector<std::array<std::size_t, 2>> curve_edges;  ///< edges (pairs of vertex indices) on the curves
+  /// Empty, or the texture coordinates (u, v) of each vertex (OBJ `vt` used by every corner of the
+  /// vertex alike; PLY vertex properties `u v`, `s t`, `texture_u texture_v`, …).
+  std::vector<std::array<double, 2>> vertex_uvs;
+  /// Empty, or the normal of each vertex (OBJ `vn` used by every corner of the vertex alike; PLY
+  /// `nx ny nz`), as the file gives it (not normalised).
+  std::vector<std::array<double, 3>> vertex_normals;
+  /// Empty, or the colour of each vertex, red, green, blue, alpha in [0, 1] (OBJ `v x y z r g b`;
+  /// PLY `red green blue [alpha]`, integers scaled by 1/255, or floats as they are).
+  std::vector<std::array<double, 4>> vertex_colors;
 };
 
 /// What reading a mesh found besides the mesh itself.
@@ -282,9 +291,11 @@ build_triangle_mesh(const Mesh_data& mesh, TriangleMesh& tm,
                         std::to_string(mesh.triangles.size()) + " triangles");
   internal::clear_mesh(tm);
   std::vector<vertex_descriptor> vertex_of(mesh.points.size());
+  using P = typename boost::property_traits<decltype(vpm)>::value_type;
   for (std::size_t i = 0; i < mesh.points.size(); ++i) {
     vertex_of[i] = add_vertex(tm);
-    put(vpm, vertex_of[i], mesh.points[i]);
+    const Point_3& p = mesh.points[i];
+    put(vpm, vertex_of[i], P(p.x(), p.y(), p.z()));  // any point type with double coordinates
   }
   std::vector<face_descriptor> face_of(mesh.triangles.size());
   for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {

@@ -34,6 +34,7 @@
 #include <meshfit/curve_network.h>
 #include <meshfit/exceptions.h>
 #include <meshfit/flip.h>
+#include <meshfit/internal/commit_result.h>
 #include <meshfit/internal/stage_support.h>
 #include <meshfit/parameters.h>
 #include <meshfit/surface_walk.h>
@@ -628,13 +629,124 @@ std::vector<typename boost::graph_traits<TriangleMesh>::vertex_descriptor> segme
     typename boost::graph_traits<TriangleMesh>::vertex_descriptor a,
     typename boost::graph_traits<TriangleMesh>::vertex_descriptor b, double tolerance);
 
+namespace internal {
+/// partition_mesh on `tm` itself: the mesh changes as the work goes (a cancel leaves it partly
+/// partitioned). For meshes the pipeline owns (fit's and deform's copies).
+template <typename TriangleMesh, typename NamedParameters>
+Partition_report partition_mesh_in_place(TriangleMesh& tm, const Curve_network& network, const NamedParameters& np) {
+  using CGAL::parameters::choose_parameter;
+  using CGAL::parameters::get_parameter;
+  using GT = boost::graph_traits<TriangleMesh>;
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto progress = get_parameter(np, internal_np::progress);
+  auto vpm = vertex_point_map_of(tm, np);
+  auto ecm = choose_parameter(get_parameter(np, CGAL::internal_np::edge_is_constrained),
+                              get(CGAL::dynamic_edge_property_t<bool>(), tm));
+  const auto vcm = choose_parameter(get_parameter(np, CGAL::internal_np::vertex_is_constrained),
+                                    CGAL::Static_boolean_property_map<typename GT::vertex_descriptor, false>());
+  if (!CGAL::is_triangle_mesh(tm)) throw Invalid_input("partition: the mesh is not a triangle mesh");
+  if (network.number_of_segments() == 0) throw Invalid_input("partition: the curve network has no segment");
+
+  report_progress(progress, "partition", "matching network vertices to mesh vertices", 0, 4);
+  Partitioner<TriangleMesh, decltype(vpm), decltype(ecm)> p(tm, vpm, ecm);
+  std::vector<Point_3> points;
+  points.reserve(p.number_of_vertices());
+  for (std::size_t i = 0; i < p.number_of_vertices(); ++i) points.push_back(p.point(p.vertex(i)));
+  Partition_report report;
+  report.mesh_vertex_of_network_vertex = match_network_vertices(points, network);
+  const auto& segments = network.segments();
+  report.segments = segments.size();
+  report.how.assign(segments.size(), Segment_embedding::not_embedded);
+  auto ends = [&](std::size_t s) {
+    return std::make_pair(p.vertex(report.mesh_vertex_of_network_vertex[segments[s][0]]),
+                          p.vertex(report.mesh_vertex_of_network_vertex[segments[s][1]]));
+  };
+  // A segment that is already a chain of mesh edges lying on it (as stage 1's surface fine level
+  // leaves them, or an earlier partition) is kept as it is, its inner vertices fixed.
+  for (auto e : edges(tm)) put(ecm, e, false);
+  const CGAL::Static_boolean_property_map<typename GT::edge_descriptor, true> every_edge;
+  for (std::size_t s = 0; s < segments.size(); ++s) {
+    const auto [a, b] = ends(s);
+    const auto chain = segment_edge_chain(tm, vpm, every_edge, a, b, network.tolerance());
+    if (chain.size() < 2) continue;
+    report.how[s] = Segment_embedding::existing_edge;
+    for (std::size_t k = 0; k + 1 < chain.size(); ++k) {
+      put(ecm, edge(halfedge(chain[k], chain[k + 1], tm).first, tm), true);
+      p.fix(chain[k + 1]);
+    }
+  }
+  for (std::size_t t : report.mesh_vertex_of_network_vertex) p.fix(p.vertex(t));
+  for (auto v : vertices(tm))
+    if (get(vcm, v)) p.fix(v);
+
+  // Existing edges first, so that no walk crosses or flips them away.
+  for (std::size_t s = 0; s < segments.size(); ++s) {
+    if (report.how[s] != Segment_embedding::not_embedded) continue;
+    const auto [a, b] = ends(s);
+    if (p.take_existing_edge(a, b)) report.how[s] = Segment_embedding::existing_edge;
+  }
+  report.matching_seconds = seconds_since(t0);
+  report_progress(progress, "partition", "inserting segments along their projected paths", 1, 4);
+  const auto t1 = std::chrono::steady_clock::now();
+  for (std::size_t s = 0; s < segments.size(); ++s) {
+    if (report.how[s] != Segment_embedding::not_embedded) continue;
+    const auto [a, b] = ends(s);
+    if (p.take_existing_edge(a, b)) {
+      report.how[s] = Segment_embedding::existing_edge;
+    } else if (p.insert_by_walk(a, b, report)) {
+      report.how[s] = Segment_embedding::walk;
+    } else {
+      ++report.walks_failed;
+    }
+  }
+  report.walk_seconds = seconds_since(t1);
+  report_progress(progress, "partition", "fallback: moving shortest edge paths onto the other segments", 2,
+                            4);
+  const auto t2 = std::chrono::steady_clock::now();
+  for (std::size_t s = 0; s < segments.size(); ++s) {
+    if (report.how[s] != Segment_embedding::not_embedded) continue;
+    const auto [a, b] = ends(s);
+    if (p.take_existing_edge(a, b))
+      report.how[s] = Segment_embedding::existing_edge;
+    else if (p.insert_by_shortest_path(a, b, report))
+      report.how[s] = Segment_embedding::fallback;
+    else
+      report.not_embedded.push_back(s);
+  }
+  for (Segment_embedding h : report.how) {
+    report.existing_edges += h == Segment_embedding::existing_edge;
+    report.by_walk += h == Segment_embedding::walk;
+    report.by_fallback += h == Segment_embedding::fallback;
+  }
+  report.fallback_seconds = seconds_since(t2);
+  report_progress(progress, "partition", "labelling regions", 3, 4);
+  const auto t3 = std::chrono::steady_clock::now();
+  report.regions = p.label_regions(get_parameter(np, CGAL::internal_np::face_patch));
+  report.region_seconds = seconds_since(t3);
+  for (auto e : edges(tm)) report.curve_edges += get(ecm, e) ? 1 : 0;
+  report.vertices = num_vertices(tm);
+  report.faces = num_faces(tm);
+  report.seconds = seconds_since(t0);
+  return report;
+}
+
+}  // namespace internal
+
 /// Makes every segment of `network` a chain of edges of `tm` (see the top of this file) and labels
 /// the regions between them. Every network vertex must be a vertex of `tm` (within the network's
 /// merge tolerance). The numbers of vertices and faces do not change; vertex positions change
 /// only where a path vertex is moved onto its segment.
 /// A segment that cannot be embedded without folding the mesh is listed in
 /// `report.not_embedded`; the mesh is then left as it was around it.
-/// \tparam TriangleMesh a model of `MutableFaceGraph` (tested: CGAL::Surface_mesh, CGAL::Polyhedron_3)
+/// The work is done on a copy of `tm` (internal/commit_result.h): an exception (a cancel from the
+/// `progress` callback, …) leaves `tm`, its property maps and their values as they were; on
+/// success the result is written into `tm` in place, as fit_template_to_curves does (a
+/// CGAL::Surface_mesh keeps its property maps, with their values on every vertex and on the edges
+/// and faces no flip replaced; a CGAL::Polyhedron_3 keeps its vertex handles, its faces and
+/// halfedges are made anew), and the output maps are written after that.
+/// \tparam TriangleMesh a model of `MutableFaceGraph` (tested: CGAL::Surface_mesh, CGAL::Polyhedron_3) whose
+///         points have double Cartesian coordinates (any Cartesian kernel over double, e.g. Epick,
+///         Simple_cartesian<double>; an exact kernel is refused at compile time)
 /// \tparam NamedParameters a sequence of named parameters (CGAL's or meshfit's)
 /// \param tm the mesh, whose vertices include the network's (as deform_template leaves it)
 /// \param network the curve network
@@ -685,99 +797,26 @@ std::vector<typename boost::graph_traits<TriangleMesh>::vertex_descriptor> segme
 template <typename TriangleMesh, typename NamedParameters = CGAL::parameters::Default_named_parameters>
 Partition_report partition_mesh(TriangleMesh& tm, const Curve_network& network,
                                 const NamedParameters& np = CGAL::parameters::default_values()) {
-  using CGAL::parameters::choose_parameter;
   using CGAL::parameters::get_parameter;
-  using GT = boost::graph_traits<TriangleMesh>;
-  const auto t0 = std::chrono::steady_clock::now();
-  const auto progress = get_parameter(np, internal_np::progress);
-  auto vpm = internal::vertex_point_map_of(tm, np);
-  auto ecm = choose_parameter(get_parameter(np, CGAL::internal_np::edge_is_constrained),
-                              get(CGAL::dynamic_edge_property_t<bool>(), tm));
-  const auto vcm = choose_parameter(get_parameter(np, CGAL::internal_np::vertex_is_constrained),
-                                    CGAL::Static_boolean_property_map<typename GT::vertex_descriptor, false>());
   if (!CGAL::is_triangle_mesh(tm)) throw Invalid_input("partition: the mesh is not a triangle mesh");
   if (network.number_of_segments() == 0) throw Invalid_input("partition: the curve network has no segment");
-
-  internal::report_progress(progress, "partition", "matching network vertices to mesh vertices", 0, 4);
-  internal::Partitioner<TriangleMesh, decltype(vpm), decltype(ecm)> p(tm, vpm, ecm);
-  std::vector<Point_3> points;
-  points.reserve(p.number_of_vertices());
-  for (std::size_t i = 0; i < p.number_of_vertices(); ++i) points.push_back(p.point(p.vertex(i)));
-  Partition_report report;
-  report.mesh_vertex_of_network_vertex = internal::match_network_vertices(points, network);
-  const auto& segments = network.segments();
-  report.segments = segments.size();
-  report.how.assign(segments.size(), Segment_embedding::not_embedded);
-  auto ends = [&](std::size_t s) {
-    return std::make_pair(p.vertex(report.mesh_vertex_of_network_vertex[segments[s][0]]),
-                          p.vertex(report.mesh_vertex_of_network_vertex[segments[s][1]]));
-  };
-  // A segment that is already a chain of mesh edges lying on it (as stage 1's surface fine level
-  // leaves them, or an earlier partition) is kept as it is, its inner vertices fixed.
-  for (auto e : edges(tm)) put(ecm, e, false);
-  const CGAL::Static_boolean_property_map<typename GT::edge_descriptor, true> every_edge;
-  for (std::size_t s = 0; s < segments.size(); ++s) {
-    const auto [a, b] = ends(s);
-    const auto chain = segment_edge_chain(tm, vpm, every_edge, a, b, network.tolerance());
-    if (chain.size() < 2) continue;
-    report.how[s] = Segment_embedding::existing_edge;
-    for (std::size_t k = 0; k + 1 < chain.size(); ++k) {
-      put(ecm, edge(halfedge(chain[k], chain[k + 1], tm).first, tm), true);
-      p.fix(chain[k + 1]);
-    }
-  }
-  for (std::size_t t : report.mesh_vertex_of_network_vertex) p.fix(p.vertex(t));
-  for (auto v : vertices(tm))
-    if (get(vcm, v)) p.fix(v);
-
-  // Existing edges first, so that no walk crosses or flips them away.
-  for (std::size_t s = 0; s < segments.size(); ++s) {
-    if (report.how[s] != Segment_embedding::not_embedded) continue;
-    const auto [a, b] = ends(s);
-    if (p.take_existing_edge(a, b)) report.how[s] = Segment_embedding::existing_edge;
-  }
-  report.matching_seconds = internal::seconds_since(t0);
-  internal::report_progress(progress, "partition", "inserting segments along their projected paths", 1, 4);
-  const auto t1 = std::chrono::steady_clock::now();
-  for (std::size_t s = 0; s < segments.size(); ++s) {
-    if (report.how[s] != Segment_embedding::not_embedded) continue;
-    const auto [a, b] = ends(s);
-    if (p.take_existing_edge(a, b)) {
-      report.how[s] = Segment_embedding::existing_edge;
-    } else if (p.insert_by_walk(a, b, report)) {
-      report.how[s] = Segment_embedding::walk;
-    } else {
-      ++report.walks_failed;
-    }
-  }
-  report.walk_seconds = internal::seconds_since(t1);
-  internal::report_progress(progress, "partition", "fallback: moving shortest edge paths onto the other segments", 2,
-                            4);
-  const auto t2 = std::chrono::steady_clock::now();
-  for (std::size_t s = 0; s < segments.size(); ++s) {
-    if (report.how[s] != Segment_embedding::not_embedded) continue;
-    const auto [a, b] = ends(s);
-    if (p.take_existing_edge(a, b))
-      report.how[s] = Segment_embedding::existing_edge;
-    else if (p.insert_by_shortest_path(a, b, report))
-      report.how[s] = Segment_embedding::fallback;
-    else
-      report.not_embedded.push_back(s);
-  }
-  for (Segment_embedding h : report.how) {
-    report.existing_edges += h == Segment_embedding::existing_edge;
-    report.by_walk += h == Segment_embedding::walk;
-    report.by_fallback += h == Segment_embedding::fallback;
-  }
-  report.fallback_seconds = internal::seconds_since(t2);
-  internal::report_progress(progress, "partition", "labelling regions", 3, 4);
-  const auto t3 = std::chrono::steady_clock::now();
-  report.regions = p.label_regions(get_parameter(np, CGAL::internal_np::face_patch));
-  report.region_seconds = internal::seconds_since(t3);
-  for (auto e : edges(tm)) report.curve_edges += get(ecm, e) ? 1 : 0;
-  report.vertices = num_vertices(tm);
-  report.faces = num_faces(tm);
-  report.seconds = internal::seconds_since(t0);
+  // The work is done on a copy (internal/commit_result.h): `tm` changes only once it is complete.
+  const auto vpm = internal::vertex_point_map_of(tm, np);
+  internal::Stage_copy<TriangleMesh, std::decay_t<decltype(vpm)>> copy(tm, vpm);
+  const auto fixed = copy.template vertex_map_from<bool>(get_parameter(np, CGAL::internal_np::vertex_is_constrained), false);
+  auto curve = get(CGAL::dynamic_edge_property_t<bool>(), copy.work);
+  auto region = get(CGAL::dynamic_face_property_t<std::size_t>(), copy.work);
+  Partition_report report = internal::partition_mesh_in_place(
+      copy.work, network,
+      parameters::progress(internal::progress_callback(get_parameter(np, internal_np::progress)))
+          .vertex_point_map(get_property_map(CGAL::vertex_point, copy.work))
+          .vertex_is_constrained_map(fixed)
+          .edge_is_constrained_map(curve)
+          .face_patch_map(region));
+  const Mesh_data result =
+      to_mesh_data(copy.work, CGAL::parameters::edge_is_constrained_map(curve).face_patch_map(region));
+  const internal::Committed_elements<TriangleMesh> committed = copy.commit(result);
+  internal::put_patches_and_curves(result, tm, committed.vertex_of, committed.face_of, np);
   return report;
 }
 

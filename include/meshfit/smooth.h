@@ -235,6 +235,7 @@ struct Smoothing_front_end {
         vpm(CGAL::parameters::choose_parameter(CGAL::parameters::get_parameter(np, CGAL::internal_np::vertex_point),
                                                get_property_map(CGAL::vertex_point, m))) {
     using CGAL::parameters::get_parameter;
+    static_cast<void>(sizeof(Kernel_check<typename boost::property_traits<decltype(vpm)>::value_type, NamedParameters>));
     auto index = get(CGAL::dynamic_vertex_property_t<std::size_t>(), tm);
     vertex.reserve(num_vertices(tm));
     arrays.points.reserve(3 * num_vertices(tm));

@@ -12,6 +12,7 @@
 #include "../write_file.h"
 #include "view.h"
 
+#include <CGAL/IO/Color.h>
 #include <CGAL/Surface_mesh.h>
 
 #include <CLI/CLI.hpp>
@@ -511,6 +512,33 @@ void warn_dropped_attributes(const meshfit::Mesh_read_report& read, const std::s
   }
 }
 
+/// The per-vertex attributes `data` holds, as the readers name them.
+std::vector<std::string> vertex_attribute_names(const meshfit::Mesh_data& data) {
+  std::vector<std::string> names;
+  if (!data.vertex_uvs.empty()) names.push_back("texture coordinates");
+  if (!data.vertex_normals.empty()) names.push_back("vertex normals");
+  if (!data.vertex_colors.empty()) names.push_back("vertex colours");
+  return names;
+}
+
+/// The per-vertex attributes of a template read (Mesh_data::vertex_uvs, …): when `carried`, the
+/// command writes them to .obj and .ply outputs and warns for other formats; otherwise it warns
+/// that they are not carried, saying `why`. Called before the report is begun (its warnings).
+void note_vertex_attributes(const meshfit::Mesh_data& data, const std::string& path, const Command_line& cl,
+                            bool carried, const std::string& why) {
+  const meshfit::Mesh_format format = meshfit::mesh_format_of(cl.values.at("--output"));
+  const bool holds = format == meshfit::Mesh_format::obj || format == meshfit::Mesh_format::ply;
+  for (const std::string& a : vertex_attribute_names(data)) {
+    if (carried && holds) continue;
+    const std::string w = path + ": " + a + " are read and not carried to the output (" +
+                          (carried ? std::string(meshfit::to_string(format)) + " holds no vertex attributes: write .obj or .ply"
+                                   : why) +
+                          ")";
+    pending_report.warnings.push_back(w);
+    if (!cl.quiet) std::cerr << "meshfit: " << pending_report.command << ": warning: " << w << "\n";
+  }
+}
+
 void write_report(const std::string& report_path, const Json& report) {
   if (report_path.empty()) return;
   pending_report.written = true;  // (a failure to write it is not retried)
@@ -702,6 +730,8 @@ using Mesh = CGAL::Surface_mesh<meshfit::Point_3>;
 /// The inputs of deform and fit, read and checked against each other.
 struct Fit_inputs {
   Mesh tm;
+  /// The template as read: its vertex attributes (vertex i is the i-th vertex of tm).
+  meshfit::Mesh_data template_data;
   meshfit::Curve_network network;
   std::vector<meshfit::Correspondence> pairs;
   double read_seconds = 0;
@@ -710,10 +740,15 @@ struct Fit_inputs {
 void read_fit_inputs(const Command_line& cl, Fit_inputs& in) {
   const std::string& template_path = cl.values.at("--template");
   const auto t0 = std::chrono::steady_clock::now();
-  warn_dropped_attributes(meshfit::read_triangle_mesh(template_path, in.tm), template_path, cl.quiet);
+  meshfit::Mesh_read_report read;
+  in.template_data = meshfit::read_mesh_data(template_path, &read);
+  meshfit::build_triangle_mesh(in.template_data, in.tm);
+  warn_dropped_attributes(read, template_path, cl.quiet);
+  note_vertex_attributes(in.template_data, template_path, cl, cl.command == "fit",
+                         "deform adds vertices and does not interpolate attributes: fit does");
   in.network = meshfit::read_curve_network(cl.values.at("--curves"), merge_tolerance(cl));
   in.pairs = meshfit::read_correspondences(cl.values.at("--correspondences"), in.network);
-  const meshfit::Mesh_data template_data = meshfit::to_mesh_data(in.tm);
+  const meshfit::Mesh_data& template_data = in.template_data;
   if (template_data.triangles.empty())
     throw meshfit::Invalid_input(meshfit::Input_location{template_path, 0, meshfit::Input_location::no_offset},
                                  "the template has no face");
@@ -818,7 +853,11 @@ int run_partition(const Command_line& cl) {
 
   Mesh tm;
   const auto t0 = std::chrono::steady_clock::now();
-  warn_dropped_attributes(meshfit::read_triangle_mesh(mesh_path, tm), mesh_path, cl.quiet);
+  meshfit::Mesh_read_report read;
+  const meshfit::Mesh_data data = meshfit::read_mesh_data(mesh_path, &read);
+  meshfit::build_triangle_mesh(data, tm);
+  warn_dropped_attributes(read, mesh_path, cl.quiet);
+  note_vertex_attributes(data, mesh_path, cl, true, "");
   const meshfit::Curve_network network = meshfit::read_curve_network(curves_path, merge_tolerance(cl));
   if (tm.number_of_faces() == 0)
     throw meshfit::Invalid_input(meshfit::Input_location{mesh_path, 0, meshfit::Input_location::no_offset},
@@ -837,8 +876,12 @@ int run_partition(const Command_line& cl) {
     throw meshfit::Invalid_input(meshfit::Input_location{curves_path, 0, meshfit::Input_location::no_offset},
                                  std::string(e.what()) + " (mesh " + mesh_path + ")");
   }
-  const meshfit::Mesh_data out =
+  meshfit::Mesh_data out =
       meshfit::to_mesh_data(tm, CGAL::parameters::edge_is_constrained_map(curve).face_patch_map(region));
+  // Partitioning adds no vertex and keeps their order: the attributes stay as read.
+  out.vertex_uvs = data.vertex_uvs;
+  out.vertex_normals = data.vertex_normals;
+  out.vertex_colors = data.vertex_colors;
 
   const std::string failure =
       r.not_embedded.empty() ? "" : std::to_string(r.not_embedded.size()) + " segments could not be made mesh edges";
@@ -925,6 +968,7 @@ int run_smooth(const Command_line& cl) {
   meshfit::Mesh_read_report read_report;
   meshfit::Mesh_data data = meshfit::read_mesh_data(template_path, &read_report);
   warn_dropped_attributes(read_report, template_path, cl.quiet);
+  note_vertex_attributes(data, template_path, cl, true, "");  // smoothing moves vertices only
   // partition's output keeps its curve edges beside it unless --curves-in-mesh: they are the
   // constraints all the same.
   const std::string curves_beside = meshfit_cli::add_curve_edges_beside(data, template_path);
@@ -1072,11 +1116,28 @@ int run_fit(const Command_line& cl) {
 
   auto curve = in.tm.add_property_map<Mesh::Edge_index, bool>("e:meshfit_curve", false).first;
   auto region = in.tm.add_property_map<Mesh::Face_index, int>("f:meshfit_region", 0).first;
+  // The template's vertex attributes, carried by fit to the vertices it adds (harmonic extension).
+  const meshfit::Mesh_data& td = in.template_data;
+  const bool attributes = !vertex_attribute_names(td).empty();
+  auto uv = in.tm.add_property_map<Mesh::Vertex_index, meshfit::Kernel::Point_2>("v:meshfit_uv").first;
+  auto normal = in.tm.add_property_map<Mesh::Vertex_index, meshfit::Vector_3>("v:meshfit_normal").first;
+  auto colour = in.tm.add_property_map<Mesh::Vertex_index, CGAL::IO::Color>("v:meshfit_colour").first;
+  if (attributes) {
+    std::size_t i = 0;
+    for (auto v : in.tm.vertices()) {
+      if (!td.vertex_uvs.empty()) uv[v] = {td.vertex_uvs[i][0], td.vertex_uvs[i][1]};
+      if (!td.vertex_normals.empty()) normal[v] = {td.vertex_normals[i][0], td.vertex_normals[i][1], td.vertex_normals[i][2]};
+      if (!td.vertex_colors.empty()) {
+        auto byte = [&](int k) { return static_cast<unsigned char>(std::lround(std::clamp(td.vertex_colors[i][k], 0.0, 1.0) * 255)); };
+        colour[v] = CGAL::IO::Color(byte(0), byte(1), byte(2), byte(3));
+      }
+      ++i;
+    }
+  }
   meshfit::Fit_report r;
   std::string failure, stage = "fit";  // a failure, reported with the figures gathered so far
   try {
-    r = meshfit::fit_template_to_curves(
-        in.tm, in.network, in.pairs,
+    const auto np =
         meshfit::parameters::rbf_kernel(d.kernel)
             .fine_level(d.fine_level)
             .curve_density(d.density)
@@ -1088,7 +1149,12 @@ int run_fit(const Command_line& cl) {
             .memory_limit(d.memory_limit)
             .flip_prevention_rounds(d.rounds)
             .edge_is_constrained_map(curve)
-            .face_patch_map(region));
+            .face_patch_map(region);
+    // Without attributes, no maps: fit would extend them all the same.
+    r = attributes ? meshfit::fit_template_to_curves(
+                         in.tm, in.network, in.pairs,
+                         np.vertex_texture_map(uv).vertex_normal_map(normal).vertex_color_map(colour))
+                   : meshfit::fit_template_to_curves(in.tm, in.network, in.pairs, np);
   } catch (const meshfit::Numerical_error& e) {
     failure = e.what();
     stage = pending_report.stage;
@@ -1096,8 +1162,26 @@ int run_fit(const Command_line& cl) {
     failure = e.what();
     stage = e.stage();
   }
-  const meshfit::Mesh_data out =
+  meshfit::Mesh_data out =
       meshfit::to_mesh_data(in.tm, CGAL::parameters::edge_is_constrained_map(curve).face_patch_map(region));
+  // Template vertex i is output vertex i and keeps its attributes exactly as read; the vertices
+  // fit added take theirs from the maps (colours as bytes).
+  if (attributes && failure.empty()) {
+    const std::size_t nt = td.points.size();
+    std::size_t i = 0;
+    for (auto v : in.tm.vertices()) {
+      if (!td.vertex_uvs.empty())
+        out.vertex_uvs.push_back(i < nt ? td.vertex_uvs[i] : std::array<double, 2>{uv[v].x(), uv[v].y()});
+      if (!td.vertex_normals.empty())
+        out.vertex_normals.push_back(i < nt ? td.vertex_normals[i]
+                                            : std::array<double, 3>{normal[v].x(), normal[v].y(), normal[v].z()});
+      if (!td.vertex_colors.empty())
+        out.vertex_colors.push_back(i < nt ? td.vertex_colors[i]
+                                           : std::array<double, 4>{colour[v].r() / 255.0, colour[v].g() / 255.0,
+                                                                   colour[v].b() / 255.0, colour[v].a() / 255.0});
+      ++i;
+    }
+  }
   const meshfit::Fit_verification& v = r.verification;
   const std::vector<std::string> problems = v.problems();
   const bool completed = failure.empty();

@@ -19,8 +19,12 @@
 #define MESHFIT_INTERNAL_COMMIT_RESULT_H
 
 #include <meshfit/exceptions.h>
+#include <meshfit/internal/stage_support.h>
+#include <meshfit/io.h>
 #include <meshfit/kernel.h>
+#include <meshfit/parameters.h>
 
+#include <CGAL/Surface_mesh.h>
 #include <CGAL/boost/graph/Euler_operations.h>
 #include <CGAL/boost/graph/helpers.h>
 #include <CGAL/boost/graph/iterator.h>
@@ -32,13 +36,13 @@
 #include <unordered_map>
 #include <vector>
 
-namespace CGAL {
-template <typename P>
-class Surface_mesh;
-}  // namespace CGAL
-
 namespace meshfit {
 namespace internal {
+
+/// The mesh the stages work on, whatever the caller's: points of meshfit's kernel (Epick), so that
+/// the caller's mesh may have any Cartesian kernel over double (its points are read and written
+/// as doubles, exactly).
+using Work_mesh = CGAL::Surface_mesh<Point_3>;
 
 template <typename Mesh>
 struct Is_surface_mesh : std::false_type {};
@@ -71,11 +75,12 @@ inline std::array<std::size_t, 3> triangle_key(std::array<std::size_t, 3> t) {
 
 /// CGAL::Surface_mesh: see the top of this file. `points[k]` is the position of the result's
 /// vertex k, written through `vpm`.
-template <typename Point, typename VPM>
-Committed_elements<CGAL::Surface_mesh<Point>> commit_surface_mesh(const CGAL::Surface_mesh<Point>& work,
+template <typename WorkPoint, typename Point, typename VPM>
+Committed_elements<CGAL::Surface_mesh<Point>> commit_surface_mesh(const CGAL::Surface_mesh<WorkPoint>& work,
                                                                    const std::vector<Point_3>& points,
                                                                    CGAL::Surface_mesh<Point>& tm, const VPM& vpm) {
   using Mesh = CGAL::Surface_mesh<Point>;
+  using P = typename boost::property_traits<VPM>::value_type;
   using V = typename Mesh::Vertex_index;
   using H = typename Mesh::Halfedge_index;
   using E = typename Mesh::Edge_index;
@@ -90,7 +95,7 @@ Committed_elements<CGAL::Surface_mesh<Point>> commit_surface_mesh(const CGAL::Su
   std::vector<std::size_t> tindex(tm.num_vertices(), none), windex(work.num_vertices(), none);
   for (std::size_t i = 0; i < nt; ++i) tindex[template_vertex[i]] = i;
   std::size_t nw = 0;
-  for (V w : work.vertices()) windex[w] = nw++;
+  for (auto w : work.vertices()) windex[w] = nw++;
   if (nw != points.size() || nw < nt) throw Invalid_input("fit: the result does not extend the template");
 
   // Template edges and faces by their vertices.
@@ -114,8 +119,8 @@ Committed_elements<CGAL::Surface_mesh<Point>> commit_surface_mesh(const CGAL::Su
   std::vector<F> face_of_work(work.num_faces(), F());
   std::vector<E> unmatched_edges;
   std::vector<F> unmatched_faces;
-  for (E e : work.edges()) {
-    const H h = work.halfedge(e);
+  for (auto e : work.edges()) {
+    const auto h = work.halfedge(e);
     const std::size_t s = windex[work.source(h)], t = windex[work.target(h)];
     if (s >= nt || t >= nt) {
       unmatched_edges.push_back(e);
@@ -130,8 +135,8 @@ Committed_elements<CGAL::Surface_mesh<Point>> commit_surface_mesh(const CGAL::Su
     base[e] = tindex[tm.target(th)] == t ? th : tm.opposite(th);
     edge_kept[it->second] = 1;
   }
-  for (F f : work.faces()) {
-    const H h = work.halfedge(f);
+  for (auto f : work.faces()) {
+    const auto h = work.halfedge(f);
     const std::array<std::size_t, 3> c{windex[work.target(work.prev(h))], windex[work.target(h)],
                                        windex[work.target(work.next(h))]};
     const auto it = c[0] < nt && c[1] < nt && c[2] < nt ? template_face.find(triangle_key(c)) : template_face.end();
@@ -178,7 +183,7 @@ Committed_elements<CGAL::Surface_mesh<Point>> commit_surface_mesh(const CGAL::Su
   for (V w : work.vertices()) {
     const H h = work.halfedge(w);
     tm.set_halfedge(vertex_of(w), h == work.null_halfedge() ? tm.null_halfedge() : halfedge_of(h));
-    put(vpm, vertex_of(w), points[windex[w]]);
+    put(vpm, vertex_of(w), point_as<P>(points[windex[w]]));
   }
   for (F f : work.faces()) {
     tm.set_halfedge(face_of_work[f], halfedge_of(work.halfedge(f)));
@@ -208,7 +213,8 @@ Committed_elements<TriangleMesh> commit_face_graph(const std::vector<Point_3>& p
   for (auto e : old_edges) remove_edge(e, tm);
   for (auto v : out.vertex_of) set_halfedge(v, GT::null_halfedge(), tm);
   while (out.vertex_of.size() < points.size()) out.vertex_of.push_back(add_vertex(tm));
-  for (std::size_t k = 0; k < points.size(); ++k) put(vpm, out.vertex_of[k], points[k]);
+  using P = typename boost::property_traits<VPM>::value_type;
+  for (std::size_t k = 0; k < points.size(); ++k) put(vpm, out.vertex_of[k], point_as<P>(points[k]));
   out.face_of.reserve(triangles.size());
   for (const auto& t : triangles) {
     const std::array<typename GT::vertex_descriptor, 3> corners{out.vertex_of[t[0]], out.vertex_of[t[1]],
@@ -219,6 +225,77 @@ Committed_elements<TriangleMesh> commit_face_graph(const std::vector<Point_3>& p
       throw Algorithm_failure("fit", "a face of the result could not be added to the mesh");
   }
   return out;
+}
+
+/// Writes the result held by `work` (`result` = to_mesh_data(work, …)) into `tm` in place, the
+/// points converted to the point type of `vpm`:
+/// commit_surface_mesh for a CGAL::Surface_mesh, commit_face_graph otherwise.
+template <typename TriangleMesh, typename VPM>
+Committed_elements<TriangleMesh> commit_work(const Work_mesh& work, const Mesh_data& result, TriangleMesh& tm,
+                                             const VPM& vpm) {
+  if constexpr (Is_surface_mesh<TriangleMesh>::value)
+    return commit_surface_mesh(work, result.points, tm, vpm);
+  else
+    return commit_face_graph(result.points, result.triangles, tm, vpm);
+}
+
+/// `np` with `value` added for `Tag` in front: get_parameter finds the first of a tag from the
+/// front, so this hides a value `np` already has for it.
+template <typename Tag, typename T, typename NamedParameters>
+Named_parameters<T, Tag, NamedParameters> with_parameter(const T& value, const NamedParameters& np) {
+  return Named_parameters<T, Tag, NamedParameters>(value, np);
+}
+
+/// A stage run on a copy of the caller's mesh, so that a stage that throws (a cancel from the
+/// `progress` callback, Algorithm_failure, …) leaves the caller's mesh, its property maps and
+/// their values exactly as they were: `work` is `tm` rebuilt from its points (read through
+/// `vpm`) and triangles, vertex i and face f of `work` being the i-th vertex and f-th face of
+/// `tm`; commit() then writes `work` into `tm` in place (commit_work: Surface_mesh property maps
+/// and Polyhedron vertex handles kept). `work` is a Work_mesh whatever the type of `tm`.
+template <typename TriangleMesh, typename VPM>
+struct Stage_copy {
+  TriangleMesh& tm;
+  VPM vpm;
+  Work_mesh work;
+  /// The vertices of `tm` and of `work`, in the order of vertices(tm): template_vertex[i] is
+  /// work_vertex[i].
+  std::vector<typename boost::graph_traits<TriangleMesh>::vertex_descriptor> template_vertex;
+  std::vector<Work_mesh::Vertex_index> work_vertex;
+
+  Stage_copy(TriangleMesh& m, const VPM& p) : tm(m), vpm(p) {
+    work_vertex = build_triangle_mesh(to_mesh_data(tm, CGAL::parameters::vertex_point_map(vpm)), work);
+    template_vertex.assign(vertices(tm).begin(), vertices(tm).end());
+  }
+
+  /// The map of `work` (a dynamic vertex property) holding the values of the caller's vertex map
+  /// `map` (all `fallback` when it is not given).
+  template <typename Value, typename Map>
+  auto vertex_map_from(const Map& map, const Value& fallback) {
+    auto out = get(CGAL::dynamic_vertex_property_t<Value>(), work);
+    for (std::size_t i = 0; i < work_vertex.size(); ++i) {
+      if constexpr (std::is_same_v<Map, CGAL::internal_np::Param_not_found>)
+        put(out, work_vertex[i], fallback);
+      else
+        put(out, work_vertex[i], Value(get(map, template_vertex[i])));
+    }
+    return out;
+  }
+
+  /// Writes `work` into `tm`; `result` is to_mesh_data(work, …).
+  Committed_elements<TriangleMesh> commit(const Mesh_data& result) { return commit_work(work, result, tm, vpm); }
+};
+
+/// Runs `stage(work, work_np)` on a Stage_copy of `tm` and commits the result when it returns:
+/// `work_np` is `np` with the copy's own vertex_point_map in front. For stages whose only
+/// parameter keyed by the mesh's elements is the vertex_point_map (deform's).
+template <typename TriangleMesh, typename NamedParameters, typename Stage>
+auto run_on_copy(TriangleMesh& tm, const NamedParameters& np, const Stage& stage) {
+  const auto vpm = vertex_point_map_of(tm, np);
+  Stage_copy<TriangleMesh, std::decay_t<decltype(vpm)>> copy(tm, vpm);
+  auto report = stage(copy.work, with_parameter<CGAL::internal_np::vertex_point_t>(
+                                     get_property_map(CGAL::vertex_point, copy.work), np));
+  copy.commit(to_mesh_data(copy.work));
+  return report;
 }
 
 }  // namespace internal

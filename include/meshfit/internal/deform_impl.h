@@ -926,7 +926,7 @@ Deformation_report fine_on_surface(TriangleMesh& tm, const Curve_network& networ
     if (projected.number_of_vertices() != static_cast<std::size_t>(std::count(used.begin(), used.end(), true)))
       throw Algorithm_failure("deform", too_dense);
     try {
-      report.embedding = partition_mesh(
+      report.embedding = partition_mesh_in_place(
           tm, projected,
           parameters::progress(forward).edge_is_constrained_map(curve).vertex_is_constrained_map(fixed));
     } catch (const Invalid_input& e) {

@@ -56,7 +56,7 @@ void report_progress(const Progress& progress, const char* stage, const char* st
                      std::size_t total) {
   if constexpr (!std::is_same_v<Progress, CGAL::internal_np::Param_not_found>) {
     if (!call_progress(progress, Progress_step{stage, step, index, total}))
-      throw Algorithm_failure(stage, "cancelled by the progress callback");
+      throw Cancelled(stage);
   }
 }
 
@@ -89,12 +89,49 @@ std::size_t flip_prevention_rounds(const NamedParameters& np) {
   return non_negative_count(rounds, "deform", "flip_prevention_rounds");
 }
 
+/// Whether a point type has double Cartesian coordinates (x(), y(), z() of type double): every
+/// Cartesian kernel over double (Epick, Simple_cartesian<double>, Cartesian<double>), not Epeck.
+template <typename Point>
+constexpr bool has_double_coordinates_v =
+    std::is_same_v<std::decay_t<decltype(std::declval<const Point&>().x())>, double> &&
+    std::is_same_v<std::decay_t<decltype(std::declval<const Point&>().y())>, double> &&
+    std::is_same_v<std::decay_t<decltype(std::declval<const Point&>().z())>, double>;
+
+/// Refuses, at compile time, a point type or a `geom_traits` whose coordinates are not doubles.
+/// A class, so that the assertions fire where it is named (`sizeof(Kernel_check<…>)`), before the
+/// errors that such points cause further on.
+template <typename Point, typename NamedParameters>
+struct Kernel_check {
+  static_assert(has_double_coordinates_v<Point>,
+                "meshfit: the mesh's points (its vertex_point_map) must have double Cartesian coordinates, as "
+                "the points of Epick or Simple_cartesian<double> have: meshfit computes on copies of the "
+                "coordinates as doubles (exact predicates on them) and writes doubles back, which an exact "
+                "kernel such as Epeck cannot take without rounding; convert the mesh to Epick first "
+                "(CGAL::copy_face_graph with a CGAL::Cartesian_converter)");
+  using Traits = typename CGAL::internal_np::Lookup_named_param_def<CGAL::internal_np::geom_traits_t,
+                                                                     NamedParameters, Kernel>::type;
+  static_assert(std::is_same_v<std::decay_t<typename Traits::FT>, double>,
+                "meshfit: geom_traits must be a Cartesian kernel over double (FT = double), such as Epick or "
+                "Simple_cartesian<double>; an exact kernel such as Epeck is not supported");
+};
+/// The `vertex_point_map` of `np`, or the mesh's own; checks its point type (check_kernel).
 template <typename TriangleMesh, typename NamedParameters>
 auto vertex_point_map_of(TriangleMesh& tm, const NamedParameters& np) {
   using CGAL::parameters::choose_parameter;
   using CGAL::parameters::get_parameter;
-  return choose_parameter(get_parameter(np, CGAL::internal_np::vertex_point),
-                          get_property_map(CGAL::vertex_point, tm));
+  auto vpm = choose_parameter(get_parameter(np, CGAL::internal_np::vertex_point),
+                              get_property_map(CGAL::vertex_point, tm));
+  static_cast<void>(sizeof(Kernel_check<typename boost::property_traits<decltype(vpm)>::value_type, NamedParameters>));
+  return vpm;
+}
+
+/// `p` as the point type `P` of a caller's map (any point type with double coordinates).
+template <typename P>
+P point_as(const Point_3& p) {
+  if constexpr (std::is_same_v<P, Point_3>)
+    return p;
+  else
+    return P(p.x(), p.y(), p.z());
 }
 
 }  // namespace internal

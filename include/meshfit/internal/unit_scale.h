@@ -34,7 +34,8 @@ Bbox_3 checked_template_box(const TriangleMesh& tm, const VPM& vpm) {
   Bbox_3 box;
   std::size_t i = 0;
   for (auto v : vertices(tm)) {
-    const Point_3 p = get(vpm, v);
+    const auto& q = get(vpm, v);
+    const Point_3 p(q.x(), q.y(), q.z());  // (any point type with double coordinates)
     check_coordinate_range(p, Input_location{}, "template vertex " + std::to_string(i++));
     box += p.bbox();
   }

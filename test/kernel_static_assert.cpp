@@ -1,0 +1,20 @@
+// Must not compile (ctest kernel_static_assert_*, which look for meshfit's message): meshfit takes
+// any Cartesian kernel over double and refuses an exact kernel with a static_assert that says why.
+//   MESHFIT_CASE 1: a Surface_mesh of Epeck points;
+//   MESHFIT_CASE 2: an Epick mesh with geom_traits(Epeck()).
+#include <meshfit/fit.h>
+#include <meshfit/smooth.h>
+
+#include <CGAL/Exact_predicates_exact_constructions_kernel.h>
+#include <CGAL/Surface_mesh.h>
+
+int main() {
+#if MESHFIT_CASE == 1
+  CGAL::Surface_mesh<CGAL::Epeck::Point_3> tm;
+  meshfit::smooth_fitted_mesh(tm);
+  meshfit::partition_mesh(tm, meshfit::Curve_network());
+#else
+  CGAL::Surface_mesh<meshfit::Point_3> tm;
+  meshfit::smooth_fitted_mesh(tm, CGAL::parameters::geom_traits(CGAL::Epeck()));
+#endif
+}
