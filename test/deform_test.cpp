@@ -443,13 +443,17 @@ TEST_CASE("deform: long straight segments are cut on the way, and embedded as th
 }
 
 #ifdef MESHFIT_CGAL_DATA_DIR
-// The approach (a thin-plate field through the motions of the curves' surface points) must bring
-// the surface nearer the curves without turning a face over: distances and normals measured
-// here, with an AABB tree and the test's own normals.
-TEST_CASE("deform: the approach brings the coarse surface towards the curves, turning nothing over",
-          "[deform][real][surface]") {
-  Example e = load_example(MESHFIT_CGAL_DATA_DIR "/larger_sphere.off");
-  e.pairs = feature_pairs(e.tm, e.network);
+// What an approach did to the coarse surface of a template under its curves, measured here with an AABB tree and the test's own normals: the mean and largest
+// distance of the network vertices to the surface before and after, the faces turned over, and
+// the folded edges before and after.
+struct Approach_measures {
+  meshfit::internal::Approach_result result;
+  double mean_before = 0, mean_after = 0, worst_before = 0, worst_after = 0;
+  std::size_t turned = 0, folds_before = 0, folds_after = 0, vertices_before = 0, vertices_after = 0;
+  std::size_t network_vertices = 0, pairs = 0;
+};
+template <typename Approach>
+Approach_measures measure_approach(Example e, const Approach& approach) {
   meshfit::deform_coarse(e.tm, e.network, e.pairs);
   auto distances = [&](const Mesh& tm) {
     using Primitive = CGAL::AABB_face_graph_triangle_primitive<Mesh>;
@@ -462,30 +466,88 @@ TEST_CASE("deform: the approach brings the coarse surface towards the curves, tu
     }
     return std::make_pair(sum / double(e.network.number_of_vertices()), worst);
   };
-  const Mesh coarse = e.tm;
-  const auto [mean_before, worst_before] = distances(coarse);
-  const auto r = meshfit::internal::approach_curves(e.tm, get(CGAL::vertex_point, e.tm), e.network, e.pairs);
-  const auto [mean_after, worst_after] = distances(e.tm);
-  INFO("mean distance " << mean_before << " -> " << mean_after << ", largest " << worst_before << " -> " << worst_after
-                        << ", " << r.constraints << " vertices given a motion, scale " << r.scale);
-  CHECK(r.scale > 0);
-  CHECK(r.constraints >= e.pairs.size());
-  CHECK(mean_after < 0.5 * mean_before);
-  CHECK(worst_after < worst_before);
-  CHECK(e.tm.number_of_vertices() == coarse.number_of_vertices());
-  std::size_t turned = 0;
+  const Mesh start = e.tm;
+  Approach_measures m;
+  std::tie(m.mean_before, m.worst_before) = distances(start);
+  m.result = approach(e.tm, get(CGAL::vertex_point, e.tm), e.network, e.pairs);
+  std::tie(m.mean_after, m.worst_after) = distances(e.tm);
   for (auto f : e.tm.faces()) {
-    auto normal = [&](const Mesh& m) {
-      const auto h = m.halfedge(f);
-      const auto a = m.point(m.source(h)), b = m.point(m.target(h)), c = m.point(m.target(m.next(h)));
+    auto normal = [&](const Mesh& mesh) {
+      const auto h = mesh.halfedge(f);
+      const auto a = mesh.point(mesh.source(h)), b = mesh.point(mesh.target(h)), c = mesh.point(mesh.target(mesh.next(h)));
       return CGAL::cross_product(b - a, c - a);
     };
-    turned += !(normal(coarse) * normal(e.tm) > 0);
+    m.turned += !(normal(start) * normal(e.tm) > 0);
   }
-  CHECK(turned == 0);
-  CHECK(folded_edges(e.tm) <= folded_edges(coarse));
+  m.folds_before = folded_edges(start);
+  m.folds_after = folded_edges(e.tm);
+  m.vertices_before = start.number_of_vertices();
+  m.vertices_after = e.tm.number_of_vertices();
+  m.network_vertices = e.network.number_of_vertices();
+  m.pairs = e.pairs.size();
+  INFO("mean distance " << m.mean_before << " -> " << m.mean_after << ", largest " << m.worst_before << " -> "
+                        << m.worst_after << ", " << m.result.constraints << " constraints, scale " << m.result.scale);
+  CHECK(m.result.scale > 0);
+  CHECK(m.turned == 0);
+  CHECK(m.folds_after <= m.folds_before);
+  CHECK(m.vertices_after == m.vertices_before);
+  return m;
+}
+
+// The approach (a thin-plate field through the motions of the curves' surface points) must bring
+// the surface nearer the curves without turning a face over.
+TEST_CASE("deform: the approach brings the coarse surface towards the curves, turning nothing over",
+          "[deform][real][surface]") {
+  Example e = load_example(MESHFIT_CGAL_DATA_DIR "/larger_sphere.off");
+  e.pairs = feature_pairs(e.tm, e.network);
+  const Approach_measures m = measure_approach(e, [](auto&&... a) { return meshfit::internal::approach_curves(a...); });
+  CHECK(m.result.constraints >= m.pairs);
+  CHECK(m.mean_after < 0.5 * m.mean_before);
+  CHECK(m.worst_after < m.worst_before);
+}
+
+// Non-rigid ICP: the same, and nearer, on the battery's ico2562-peanut-latlong (on the sphere
+// above the curves are within a quarter of an edge of the coarse surface: ICP makes no step there).
+TEST_CASE("deform: the ICP approach brings the coarse surface to the curves, turning nothing over",
+          "[deform][real][surface]") {
+  Example e;
+  meshfit::read_triangle_mesh(MESHFIT_TEST_DATA_DIR "/peanut-latlong/template.off", e.tm);
+  e.network = meshfit::read_curve_network(MESHFIT_TEST_DATA_DIR "/peanut-latlong/curves.polylines.txt");
+  e.pairs = meshfit::read_correspondences(MESHFIT_TEST_DATA_DIR "/peanut-latlong/pairs.txt", e.network);
+  const Approach_measures m = measure_approach(e, [](auto&&... a) { return meshfit::internal::approach_curves_icp(a...); });
+  CHECK(m.result.constraints == m.network_vertices);  // every network vertex
+  CHECK(m.mean_after < 0.25 * m.mean_before);
+  CHECK(m.worst_after < 0.5 * m.worst_before);
 }
 #endif
+
+// Curves already on the surface (a path of the template's own vertices): every network vertex is
+// within a quarter of an edge of its surface point before any step, so ICP makes none.
+TEST_CASE("deform: the ICP approach makes no step when the curves lie on the surface", "[deform][surface]") {
+  Example e = load_example();
+  std::vector<Mesh::Vertex_index> path{*e.tm.vertices().begin()};
+  for (int k = 0; k < 6; ++k) {  // each time the neighbour farthest from the start
+    Mesh::Vertex_index best;
+    double far = -1;
+    for (auto u : CGAL::vertices_around_target(path.back(), e.tm)) {
+      const double d = CGAL::squared_distance(e.tm.point(u), e.tm.point(path.front()));
+      if (std::find(path.begin(), path.end(), u) == path.end() && d > far) far = d, best = u;
+    }
+    path.push_back(best);
+  }
+  meshfit::Curve_network::Polyline line;
+  for (auto v : path) line.push_back(e.tm.point(v));
+  const meshfit::Curve_network network({line});
+  meshfit::Correspondence c;
+  c.template_vertex = path.front().idx();
+  c.network_vertex = 0;
+  const Mesh before = e.tm;
+  const auto r = meshfit::internal::approach_curves_icp(e.tm, get(CGAL::vertex_point, e.tm), network, {c});
+  CHECK(r.scale == 0);
+  std::size_t moved = 0;
+  for (auto v : e.tm.vertices()) moved += e.tm.point(v) != before.point(v);
+  CHECK(moved == 0);
+}
 
 // On this input (the battery's ico2562-peanut-latlong) the steps after the ICP approach leave
 // defects, so they run again from the coarse surface after the nearest-vertex approach: the mesh

@@ -507,7 +507,8 @@ Approach_result approach_curves(TriangleMesh& tm, const VPM& vpm, const Curve_ne
 /// than 60 degrees apart: a smooth motion may tip such an edge over), the free vertices around
 /// those faces (2, then 6 rings; the border stays) are untangled (untangle_faces). A step that
 /// still leaves such a face is halved, twice; the first step that cannot be made ends the
-/// approach. The stiffness and the data are free of units (uniform Laplacian, barycentric
+/// approach, as does every network vertex lying within a quarter of the mean edge of its surface
+/// point (before any step: no approach). The stiffness and the data are free of units (uniform Laplacian, barycentric
 /// weights): the motion does not depend on where the inputs are placed.
 template <typename TriangleMesh, typename VPM>
 Approach_result approach_curves_icp(TriangleMesh& tm, const VPM& vpm, const Curve_network& network,
@@ -541,6 +542,7 @@ Approach_result approach_curves_icp(TriangleMesh& tm, const VPM& vpm, const Curv
       if (!(a * b > 0.5 * std::sqrt(a.squared_length() * b.squared_length()))) exempt[ek] = true;
     }
   }
+  const double h = mean_edge_length(tm, vpm);
   Approach_result result;
   double stiffness = 10;
   for (int step = 0; step < 6; ++step, stiffness /= 4) {
@@ -565,6 +567,12 @@ Approach_result approach_curves_icp(TriangleMesh& tm, const VPM& vpm, const Curv
       }
     }
     result.constraints = constraints.size();
+    // Done when every network vertex is within a quarter of an edge of its surface point: what is
+    // left is finer than the mesh (the 81 920-face scale case is there after one step; five more
+    // cost 12 s and moved nothing that mattered).
+    double largest_gap = 0;
+    for (const Soft_displacement& c : constraints) largest_gap = std::max(largest_gap, c.target.squared_length());
+    if (largest_gap < 0.0625 * h * h) break;
     const std::vector<Vector_3> d = fit_displacements(adjacency, constraints, stiffness);
     // Faces judged against their normals before the step; vertices move in their tangent planes.
     std::vector<Vector_3> face_normal, vertex_normal(n, Vector_3(0, 0, 0));
