@@ -512,6 +512,14 @@ std::vector<Region_mesh> split_by_region(const Mesh_data& mesh) {
       local[r.vertex_in_full[i]] = i;
       r.mesh.points.push_back(mesh.points[r.vertex_in_full[i]]);
     }
+    // The vertices' texture coordinates, normals and colours go with them.
+    auto carry = [&](const auto& full, auto& part) {
+      if (full.size() != n) return;
+      for (std::size_t v : r.vertex_in_full) part.push_back(full[v]);
+    };
+    carry(mesh.vertex_uvs, r.mesh.vertex_uvs);
+    carry(mesh.vertex_normals, r.mesh.vertex_normals);
+    carry(mesh.vertex_colors, r.mesh.vertex_colors);
     r.mesh.triangles.reserve(r.face_in_full.size());
     for (std::size_t t : r.face_in_full) {
       const auto& tri = mesh.triangles[t];

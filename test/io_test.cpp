@@ -658,6 +658,25 @@ TEST_CASE("io: split_by_region gives each region its faces and the vertices they
   REQUIRE(whole.size() == 1);
   CHECK(whole[0].region == 0);
   CHECK(whole[0].mesh.triangles == grid(2).triangles);
+  // Vertex attributes go with the vertices: each local vertex has its full vertex's values.
+  Mesh_data a = m;
+  for (std::size_t v = 0; v < a.points.size(); ++v) {
+    const double x = static_cast<double>(v);
+    a.vertex_uvs.push_back({x / 16, 1 - x / 16});
+    a.vertex_normals.push_back({0, x, 1});
+    a.vertex_colors.push_back({x / 32, 0.5, 1, 1});
+  }
+  for (const meshfit::Region_mesh& r : meshfit::split_by_region(a)) {
+    REQUIRE(r.mesh.vertex_uvs.size() == r.mesh.points.size());
+    REQUIRE(r.mesh.vertex_normals.size() == r.mesh.points.size());
+    REQUIRE(r.mesh.vertex_colors.size() == r.mesh.points.size());
+    for (std::size_t i = 0; i < r.mesh.points.size(); ++i) {
+      CHECK(r.mesh.vertex_uvs[i] == a.vertex_uvs[r.vertex_in_full[i]]);
+      CHECK(r.mesh.vertex_normals[i] == a.vertex_normals[r.vertex_in_full[i]]);
+      CHECK(r.mesh.vertex_colors[i] == a.vertex_colors[r.vertex_in_full[i]]);
+    }
+  }
+  CHECK(regions[0].mesh.vertex_uvs.empty());  // none in, none out
   CHECK(meshfit::region_file_name(3, Mesh_format::ply) == "region_3.ply");
   CHECK(meshfit::region_file_name(-1, Mesh_format::obj) == "region_-1.obj");
 }

@@ -166,8 +166,9 @@ void check_output_path(const std::string& output, const std::vector<std::string>
 struct Region_mesh {
   int region = 0;  ///< the region id (`face_patch` value) of every face
   /// The region's faces, in the order of the full mesh, and the vertices they use, numbered
-  /// 0, 1, … in increasing order of their index in the full mesh; `face_patch` holds `region` for
-  /// every face; no curve edges.
+  /// 0, 1, … in increasing order of their index in the full mesh, with their texture coordinates,
+  /// normals and colours when the full mesh has them; `face_patch` holds `region` for every face;
+  /// no curve edges.
   Mesh_data mesh;
   std::vector<std::size_t> vertex_in_full;  ///< local vertex i is vertex vertex_in_full[i] of the full mesh
   std::vector<std::size_t> face_in_full;    ///< local face f is face face_in_full[f] of the full mesh
