@@ -34,6 +34,15 @@ Example load_example(const std::string& template_path = MESHFIT_EXAMPLE_DATA_DIR
   return e;
 }
 
+// A battery case as test/data holds it: template.off, curves.polylines.txt and pairs.txt in `dir`.
+Example load_case(const std::string& dir) {
+  Example e;
+  meshfit::read_triangle_mesh(dir + "/template.off", e.tm);
+  e.network = meshfit::read_curve_network(dir + "/curves.polylines.txt");
+  e.pairs = meshfit::read_correspondences(dir + "/pairs.txt", e.network);
+  return e;
+}
+
 // Pairs for another sphere template: each feature point with the template vertex farthest in
 // the direction the ellipsoid-to-sphere map sends it.
 std::vector<meshfit::Correspondence> feature_pairs(const Mesh& tm, const meshfit::Curve_network& net) {
@@ -510,10 +519,7 @@ TEST_CASE("deform: the approach brings the coarse surface towards the curves, tu
 // above the curves are within a quarter of an edge of the coarse surface: ICP makes no step there).
 TEST_CASE("deform: the ICP approach brings the coarse surface to the curves, turning nothing over",
           "[deform][real][surface]") {
-  Example e;
-  meshfit::read_triangle_mesh(MESHFIT_TEST_DATA_DIR "/peanut-latlong/template.off", e.tm);
-  e.network = meshfit::read_curve_network(MESHFIT_TEST_DATA_DIR "/peanut-latlong/curves.polylines.txt");
-  e.pairs = meshfit::read_correspondences(MESHFIT_TEST_DATA_DIR "/peanut-latlong/pairs.txt", e.network);
+  Example e = load_case(MESHFIT_TEST_DATA_DIR "/peanut-latlong");
   const Approach_measures m = measure_approach(e, [](auto&&... a) { return meshfit::internal::approach_curves_icp(a...); });
   CHECK(m.result.constraints == m.network_vertices);  // every network vertex
   CHECK(m.mean_after < 0.25 * m.mean_before);
@@ -555,10 +561,7 @@ TEST_CASE("deform: the ICP approach makes no step when the curves lie on the sur
 // checked here with the test's own oracles.
 TEST_CASE("deform: the fine level's second try, from the coarse surface, on Surface_mesh and Polyhedron_3",
           "[deform][surface][generic]") {
-  Example e;
-  meshfit::read_triangle_mesh(MESHFIT_TEST_DATA_DIR "/peanut-latlong/template.off", e.tm);
-  e.network = meshfit::read_curve_network(MESHFIT_TEST_DATA_DIR "/peanut-latlong/curves.polylines.txt");
-  e.pairs = meshfit::read_correspondences(MESHFIT_TEST_DATA_DIR "/peanut-latlong/pairs.txt", e.network);
+  Example e = load_case(MESHFIT_TEST_DATA_DIR "/peanut-latlong");
   CGAL::Polyhedron_3<meshfit::Kernel> poly;
   meshfit::build_triangle_mesh(meshfit::to_mesh_data(e.tm), poly);
   auto vc = e.tm.add_property_map<Mesh::Vertex_index, int>("v:caller", 7).first;
