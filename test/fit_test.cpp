@@ -460,3 +460,93 @@ TEST_CASE("fit: bunched chain vertices are spaced out along their segment, on it
   }
   CHECK(std::abs(area - 1) < 1e-12);
 }
+
+namespace {
+
+// Regions counted on their own: faces joined across edges that are not curve edges.
+std::size_t flood_fill_regions(const Mesh& tm, const Mesh::Property_map<Mesh::Edge_index, bool>& curve) {
+  std::map<Mesh::Face_index, bool> seen;
+  std::size_t regions = 0;
+  for (auto f0 : tm.faces()) {
+    if (seen[f0]) continue;
+    ++regions;
+    std::vector<Mesh::Face_index> stack{f0};
+    seen[f0] = true;
+    while (!stack.empty()) {
+      const auto f = stack.back();
+      stack.pop_back();
+      for (auto h : CGAL::halfedges_around_face(tm.halfedge(f), tm)) {
+        const auto g = tm.face(tm.opposite(h));
+        if (g == Mesh::null_face() || curve[tm.edge(h)] || seen[g]) continue;
+        seen[g] = true;
+        stack.push_back(g);
+      }
+    }
+  }
+  return regions;
+}
+
+// The closed polyline of the border of the square [i0, i1] × [j0, j1] of an n-grid's points,
+// and its edges marked in `curve`.
+meshfit::Curve_network::Polyline square_loop(const Mesh& tm, Mesh::Property_map<Mesh::Edge_index, bool>& curve,
+                                             std::size_t n, std::size_t i0, std::size_t i1, std::size_t j0,
+                                             std::size_t j1) {
+  std::vector<Mesh::Vertex_index> loop;
+  auto at = [n](std::size_t i, std::size_t j) { return Mesh::Vertex_index(static_cast<std::uint32_t>(j * (n + 1) + i)); };
+  for (std::size_t i = i0; i < i1; ++i) loop.push_back(at(i, j0));
+  for (std::size_t j = j0; j < j1; ++j) loop.push_back(at(i1, j));
+  for (std::size_t i = i1; i > i0; --i) loop.push_back(at(i, j1));
+  for (std::size_t j = j1; j > j0; --j) loop.push_back(at(i0, j));
+  meshfit::Curve_network::Polyline line;
+  for (std::size_t k = 0; k < loop.size(); ++k) {
+    const auto [h, found] = CGAL::halfedge(loop[k], loop[(k + 1) % loop.size()], tm);
+    REQUIRE(found);
+    curve[tm.edge(h)] = true;
+    line.push_back(tm.point(loop[k]));
+  }
+  line.push_back(line.front());
+  return line;
+}
+
+}  // namespace
+
+TEST_CASE("fit: the region count a network bounds is known on genus-0 templates with holes", "[fit][regions]") {
+  // A 12 × 12 grid (a disc) with the faces of two squares removed: three border cycles.
+  constexpr std::size_t n = 12;
+  Mesh tm;
+  meshfit::build_triangle_mesh(meshfit_test::grid(n), tm);
+  for (std::size_t square : {std::size_t(2 * n + 2), std::size_t(8 * n + 8)})  // squares (2, 2) and (8, 8)
+    for (std::size_t t : {2 * square, 2 * square + 1}) CGAL::Euler::remove_face(tm.halfedge(Mesh::Face_index(std::uint32_t(t))), tm);
+  tm.collect_garbage();
+  auto curve = tm.add_property_map<Mesh::Edge_index, bool>("e:curve", false).first;
+  auto known = [&](const std::vector<meshfit::Curve_network::Polyline>& lines) {
+    return meshfit::internal::expected_regions(tm, meshfit::Curve_network(lines), curve);
+  };
+
+  SECTION("a loop around neither hole: the holes lie inside regions") {
+    const auto loop = square_loop(tm, curve, n, 4, 7, 4, 7);
+    const auto expected = known({loop});
+    REQUIRE(expected);
+    CHECK(*expected == 2);
+    CHECK(flood_fill_regions(tm, curve) == 2);
+  }
+  SECTION("a loop around a hole: still two regions, one of them a ring") {
+    const auto loop = square_loop(tm, curve, n, 1, 4, 1, 4);
+    const auto expected = known({loop});
+    REQUIRE(expected);
+    CHECK(*expected == 2);
+    CHECK(flood_fill_regions(tm, curve) == 2);
+  }
+  SECTION("a hole's border in the network: the face it bounds is not on the mesh") {
+    const auto inner = square_loop(tm, curve, n, 4, 7, 4, 7);
+    const auto hole = square_loop(tm, curve, n, 8, 9, 8, 9);
+    const auto expected = known({inner, hole});
+    REQUIRE(expected);
+    CHECK(*expected == 2);
+    CHECK(flood_fill_regions(tm, curve) == 2);
+  }
+  SECTION("a border cycle partly on curves: not determined by the topology") {
+    const auto loop = square_loop(tm, curve, n, 0, 3, 8, 11);  // two sides on the outer border
+    CHECK_FALSE(known({loop}));
+  }
+}

@@ -57,7 +57,9 @@ struct Fit_verification {
   /// Regions of the partition, and how many the network bounds on the result's surface when that
   /// is determined by its topology (expected_regions_known): on a connected genus-0 surface,
   /// E − V + 1 + C for a network of V vertices, E segments and C components (Euler's formula),
-  /// one less on a disc whose boundary is all curve edges (the outer face is not on the mesh).
+  /// less one for each border cycle made of curve edges only (the face of the network it bounds
+  /// is not on the mesh; a border cycle with no curve edge is a hole inside a region). Not known
+  /// on other surfaces, nor when a border cycle is partly on curves.
   std::size_t regions = 0;
   std::size_t expected_regions = 0;     ///< see regions
   bool expected_regions_known = false;  ///< expected_regions holds a value (see regions)
@@ -132,18 +134,31 @@ std::pair<std::size_t, std::size_t> folded_and_degenerate(const TriangleMesh& tm
 }
 
 /// The number of regions `network` bounds on `tm` once every segment is a chain of the edges
-/// `curve`, when the topology of `tm` determines it (connected, genus 0, closed or a disc; see
-/// Fit_verification::expected_regions); empty otherwise.
+/// `curve`, when the topology of `tm` determines it (connected, genus 0, each border cycle either
+/// all curve edges or none; see Fit_verification::expected_regions); empty otherwise.
 template <typename TriangleMesh, typename ECM>
 std::optional<std::size_t> expected_regions(const TriangleMesh& tm, const Curve_network& network, const ECM& curve) {
-  const auto cycles = genus_zero_border_cycles(tm);
-  if (!cycles || *cycles > 1) return {};
-  bool border_is_curve = true;
-  for (auto h : halfedges(tm))
-    if (is_border(h, tm)) border_is_curve = border_is_curve && get(curve, edge(h, tm));
+  if (!genus_zero_border_cycles(tm)) return {};
+  // A border cycle with no curve edge is a hole inside one region; one made of curve edges only
+  // bounds a face of the network that is not on the mesh. A cycle partly on curves is neither.
+  std::size_t curve_cycles = 0;
+  auto seen = get(CGAL::dynamic_halfedge_property_t<bool>(), tm);
+  for (auto h : halfedges(tm)) put(seen, h, false);
+  for (auto h : halfedges(tm)) {
+    if (!is_border(h, tm) || get(seen, h)) continue;
+    std::size_t edges = 0, on_curve = 0;
+    for (auto g : CGAL::halfedges_around_face(h, tm)) {
+      put(seen, g, true);
+      ++edges;
+      on_curve += get(curve, edge(g, tm)) ? 1 : 0;
+    }
+    if (on_curve != 0 && on_curve != edges) return {};
+    curve_cycles += on_curve == edges ? 1 : 0;
+  }
   const std::size_t planar_faces =
       network.number_of_segments() + 1 + network.number_of_components() - network.number_of_vertices();
-  return *cycles == 1 && border_is_curve ? planar_faces - 1 : planar_faces;
+  if (curve_cycles > planar_faces) return {};
+  return planar_faces - curve_cycles;
 }
 
 /// Whether a named parameter was given.
