@@ -18,11 +18,21 @@ void check_coordinate_range(const Point_3& p, const Input_location& where, const
   }
 }
 
-void check_extent(double diagonal, const Input_location& where, const std::string& what) {
+double bbox_diagonal(const Bbox_3& box) {
+  const double d[3] = {box.xmax() - box.xmin(), box.ymax() - box.ymin(), box.zmax() - box.zmin()};
+  const double largest = std::max({d[0], d[1], d[2]});
+  if (!(largest > 0) || !std::isfinite(largest)) return largest > 0 ? largest : 0.0;
+  // Sides divided by the largest first: squaring 1e-200 (or 1e200) itself would underflow (overflow).
+  return largest * std::sqrt(CGAL::square(d[0] / largest) + CGAL::square(d[1] / largest) + CGAL::square(d[2] / largest));
+}
+
+double check_extent(const Bbox_3& box, const Input_location& where, const std::string& what) {
+  const double diagonal = bbox_diagonal(box);
   if (!(diagonal > 0)) throw Invalid_input(where, "the points of " + what + " all coincide");
   if (diagonal < min_extent)
     throw Invalid_input(where, "the extent of " + what + " (bounding-box diagonal " + internal::format_number(diagonal) +
                                    ") is below the supported " + internal::format_number(min_extent));
+  return diagonal;
 }
 
 namespace internal {

@@ -111,10 +111,7 @@ Curve_network::Curve_network(const std::vector<Polyline>& polylines, double rela
     }
   }
   if (!any) throw Invalid_input("the curve network is empty");
-  const double diagonal = std::sqrt(CGAL::square(m_bbox.xmax() - m_bbox.xmin()) +
-                                    CGAL::square(m_bbox.ymax() - m_bbox.ymin()) +
-                                    CGAL::square(m_bbox.zmax() - m_bbox.zmin()));
-  check_extent(diagonal, Input_location{}, "the curve network");
+  const double diagonal = check_extent(m_bbox, Input_location{}, "the curve network");
   m_relative_tolerance = relative_tolerance;
   m_tolerance = relative_tolerance * diagonal;
 

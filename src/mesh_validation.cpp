@@ -93,9 +93,7 @@ Mesh_data validate_polygon_soup(const Polygon_soup& soup, Mesh_read_report* repo
     box += soup.points[v].bbox();
   }
   if (n > 0)
-    check_extent(std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
-                           CGAL::square(box.zmax() - box.zmin())),
-                 file, "the mesh");
+    check_extent(box, file, "the mesh");
   Mesh_data mesh;
   mesh.points = soup.points;
   mesh.vertex_uvs = soup.vertex_uvs;

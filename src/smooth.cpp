@@ -7,6 +7,7 @@
 // what makes a step cost tens of nanoseconds per vertex.
 #include <meshfit/flip.h>
 #include <meshfit/smooth.h>
+#include <meshfit/internal/unit_scale.h>
 
 #include "fp_traps.h"
 
@@ -244,7 +245,10 @@ void fill_displacements(const std::vector<double>& before, const std::vector<dou
   r.max_displacement = mx;
 }
 
-void run_flow(Smoothing_arrays& m, const Flow_settings& s, Smoothing_report& report) {
+namespace {
+
+// run_flow on points of order one (see run_flow below).
+void run_flow_unit(Smoothing_arrays& m, const Flow_settings& s, Smoothing_report& report) {
   Fp_trap_scope traps;
   check_smoothing_input(m);
   const Topology t(m);
@@ -524,6 +528,36 @@ void run_flow(Smoothing_arrays& m, const Flow_settings& s, Smoothing_report& rep
     ++report.iterations;
   }
   m.points = cur;
+}
+
+}  // namespace
+
+// The flow runs on the points scaled by a power of two to a unit-sized box (exact; unit_scale.h):
+// the time step, the thresholds and the squared areas and cotangents then see numbers of order one
+// at every supported scale (at 1e80, squared areas overflowed and angles came out wrong).
+void run_flow(Smoothing_arrays& m, const Flow_settings& s, Smoothing_report& report) {
+  Bbox_3 box;  // of the vertices on a triangle (an unused vertex far away sets no scale)
+  for (const auto& tri : m.triangles)
+    for (const std::uint32_t i : tri)
+      if (3 * std::size_t(i) + 2 < m.points.size()) {
+        const double* p = &m.points[3 * std::size_t(i)];
+        box += Bbox_3(p[0], p[1], p[2], p[0], p[1], p[2]);
+      }
+  const double unit = unit_scale(box);
+  if (unit == 1) return run_flow_unit(m, s, report);
+  auto scale_all = [&](double f) {
+    for (std::vector<double>* v : {&m.points, &m.reference_points, &m.orientation_points})
+      for (double& x : *v) x *= f;
+  };
+  scale_all(unit);
+  try {
+    run_flow_unit(m, s, report);
+  } catch (...) {
+    scale_all(1 / unit);
+    throw;
+  }
+  scale_all(1 / unit);
+  report.last_step_max_displacement /= unit;
 }
 
 }  // namespace internal

@@ -15,6 +15,8 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cstdint>
+#include <cstring>
 #include <cmath>
 #include <fstream>
 #include <set>
@@ -707,4 +709,88 @@ TEST_CASE("cli ecosystem: fit carries the template's texture coordinates, normal
   const Obj_text sm = parse_obj_text(read_text(dir.file("s.obj")));
   CHECK(sm.vt == in.vt);
   CHECK(sm.vn == in.vn);
+}
+
+namespace {
+
+// The float32 values of the page's blob `id` (base64, little-endian).
+std::vector<float> page_floats(const std::string& page, const std::string& id) {
+  const std::string open = "id=\"" + id + "\">";
+  const std::size_t begin = page.find(open);
+  REQUIRE(begin != std::string::npos);
+  const std::size_t start = begin + open.size(), end = page.find("</script>", start);
+  std::vector<unsigned char> bytes;
+  std::uint32_t acc = 0;
+  int bits = 0;
+  for (std::size_t i = start; i < end; ++i) {
+    const char c = page[i];
+    const char* digits = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    const char* at = std::strchr(digits, c);
+    if (c == '=' || !at || c == '\0') continue;
+    acc = (acc << 6) | std::uint32_t(at - digits);
+    bits += 6;
+    if (bits >= 8) {
+      bits -= 8;
+      bytes.push_back(static_cast<unsigned char>((acc >> bits) & 0xff));
+    }
+  }
+  std::vector<float> out(bytes.size() / 4);
+  for (std::size_t k = 0; k < out.size(); ++k) {
+    const std::uint32_t b = std::uint32_t(bytes[4 * k]) | std::uint32_t(bytes[4 * k + 1]) << 8 |
+                            std::uint32_t(bytes[4 * k + 2]) << 16 | std::uint32_t(bytes[4 * k + 3]) << 24;
+    std::memcpy(&out[k], &b, 4);
+  }
+  return out;
+}
+
+// `text` (a polylines or pairs file) with every coordinate multiplied by `s`: the first number of
+// a polylines line (its count) and of a pairs line (the template vertex) are kept.
+std::string scaled_text(const std::string& text, double s) {
+  std::istringstream in(text);
+  std::ostringstream out;
+  out.precision(17);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') {
+      out << line << '\n';
+      continue;
+    }
+    std::istringstream words(line);
+    std::string first;
+    words >> first;
+    out << first;
+    double x;
+    while (words >> x) out << ' ' << x * s;
+    out << '\n';
+  }
+  return out.str();
+}
+
+}  // namespace
+
+TEST_CASE("cli ecosystem: view draws meshes at 1e40 and 1e-45 (float32's range) in a frame of order one",
+          "[cli][view]") {
+  // The page's float32 positions were the file's coordinates less the centre: Inf at 1e40, zeros
+  // below 1e-45.
+  const std::string data = MESHFIT_EXAMPLE_DATA_DIR;
+  for (const int e : {133, -150}) {
+    INFO("scale 2^" << e);
+    Temp_dir dir;
+    const double s = std::ldexp(1.0, e);
+    meshfit::Mesh_data t = meshfit::read_mesh_data(data + "/template.off");
+    for (auto& p : t.points) p = meshfit::Point_3(p.x() * s, p.y() * s, p.z() * s);
+    meshfit::write_mesh_data(dir.file("t.off"), t);
+    dir.write("c.polylines.txt", scaled_text(read_text(data + "/curves.polylines.txt"), s));
+    REQUIRE(run(dir, "view --quiet --template t.off --curves c.polylines.txt --output v.html").status == 0);
+    const std::string page = read_text(dir.file("v.html"));
+    const std::vector<float> positions = page_floats(page, "mf-blob-0");  // the template's
+    REQUIRE(positions.size() == 3 * t.points.size());
+    float largest = 0;
+    for (float x : positions) {
+      REQUIRE(std::isfinite(x));
+      largest = std::max(largest, std::abs(x));
+    }
+    CHECK(largest > 1.0f / 16);  // the network's largest side is in [1, 2) on the page
+    CHECK(largest < 16.0f);
+  }
 }

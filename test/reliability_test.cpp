@@ -19,6 +19,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <optional>
 
 using Mesh = CGAL::Surface_mesh<meshfit::Point_3>;
 using meshfit::Point_3;
@@ -32,9 +33,11 @@ struct Inputs {
   std::vector<meshfit::Correspondence> pairs;
 };
 
-/// The embedded example with every coordinate multiplied by `s` (the pairs refer to the same
-/// network vertices: merging is the same at every scale).
-Inputs example(double s = 1) {
+/// The embedded example with every coordinate of the template multiplied by `s` and every point
+/// of the network by `sn` (the pairs refer to the same network vertices: merging is the same at
+/// every scale).
+Inputs example(double s = 1, std::optional<double> network_scale = {}) {
+  const double sn = network_scale.value_or(s);
   Inputs in;
   const std::string d = MESHFIT_EXAMPLE_DATA_DIR;
   meshfit::read_triangle_mesh(d + "/template.off", in.tm);
@@ -49,7 +52,7 @@ Inputs example(double s = 1) {
     polylines.emplace_back();
     for (std::size_t v : ids) {
       const Point_3& p = network.point(v);
-      polylines.back().emplace_back(p.x() * s, p.y() * s, p.z() * s);
+      polylines.back().emplace_back(p.x() * sn, p.y() * sn, p.z() * sn);
     }
   }
   in.network = meshfit::Curve_network(polylines);
@@ -69,9 +72,21 @@ TEST_CASE("coordinate range: a coordinate beyond 1e100 is refused, naming the el
   }
   CHECK_NOTHROW(meshfit::check_coordinate_range(Point_3(-1e100, 1e100, 0), {}, "p"));
   CHECK_THROWS_AS(meshfit::check_coordinate_range(Point_3(0, 0, std::nan("")), {}, "p"), meshfit::Invalid_input);
-  CHECK_THROWS_AS(meshfit::check_extent(0.5e-100, {}, "the mesh"), meshfit::Invalid_input);
-  CHECK_THROWS_AS(meshfit::check_extent(0, {}, "the mesh"), meshfit::Invalid_input);
-  CHECK_NOTHROW(meshfit::check_extent(1e-100, {}, "the mesh"));
+  auto box = [](double side) { return meshfit::Bbox_3(0, 0, 0, side, 0, 0); };
+  CHECK_THROWS_AS(meshfit::check_extent(box(0.5e-100), {}, "the mesh"), meshfit::Invalid_input);
+  CHECK_THROWS_AS(meshfit::check_extent(box(0), {}, "the mesh"), meshfit::Invalid_input);
+  CHECK(meshfit::check_extent(box(1e-100), {}, "the mesh") == 1e-100);
+  // Far below the range the extent is named as too small, not as zero (its square underflows).
+  try {
+    meshfit::check_extent(meshfit::Bbox_3(0, 0, 0, 1e-200, 1e-200, 1e-200), {}, "the mesh");
+    FAIL("no exception");
+  } catch (const meshfit::Invalid_input& e) {
+    CHECK(std::string(e.what()).find("below the supported") != std::string::npos);
+    CHECK(std::string(e.what()).find("1.73e-200") != std::string::npos);
+  }
+  // Near the top of the range the diagonal does not overflow.
+  CHECK(meshfit::bbox_diagonal(meshfit::Bbox_3(-1e100, -1e100, -1e100, 1e100, 1e100, 1e100)) ==
+        Approx(2 * std::sqrt(3.0) * 1e100));
 }
 
 TEST_CASE("coordinate range: the readers refuse meshes and networks outside it", "[coordinate_range][io]") {
@@ -127,6 +142,97 @@ TEST_CASE("coordinate range: fit gives the same result at the edges of the range
       differ += in.tm.point(v) != Point_3(p.x() * s, p.y() * s, p.z() * s);
     }
     CHECK(differ == 0);
+  }
+  // The template and the curves at scales 2^266 (about 1e80) apart, either way round: the coarse
+  // level maps the one onto the other, and the result is the scale-1 result in the curves' frame.
+  for (const auto& [et, en] : {std::pair{0, -266}, std::pair{0, 266}, std::pair{266, 0}, std::pair{-200, 66}}) {
+    INFO("template scale 2^" << et << ", curves scale 2^" << en);
+    const double sn = std::ldexp(1.0, en);
+    Inputs in = example(std::ldexp(1.0, et), sn);
+    Inputs ref = example();
+    meshfit::fit_template_to_curves(ref.tm, ref.network, ref.pairs);
+    const meshfit::Fit_report r = meshfit::fit_template_to_curves(in.tm, in.network, in.pairs);
+    CHECK(r.verification.passed());
+    CHECK(r.partition.regions == base.partition.regions);
+    REQUIRE(in.tm.number_of_vertices() == ref.tm.number_of_vertices());
+    std::size_t differ = 0;
+    for (auto v : in.tm.vertices()) {
+      const Point_3& p = ref.tm.point(v);
+      differ += in.tm.point(v) != Point_3(p.x() * sn, p.y() * sn, p.z() * sn);
+    }
+    CHECK(differ == 0);
+  }
+}
+
+TEST_CASE("coordinate range: smoothing at 2^266 gives the scale-1 result, scaled", "[coordinate_range][smooth]") {
+  // At about 1e80 the squared areas of the flow overflowed: the smallest angle came out at 7.6
+  // degrees instead of 53.7 (and the report said 90).
+  const double s = std::ldexp(1.0, 266);
+  Inputs ref = example(), big = example(s);
+  const meshfit::Smoothing_report a = meshfit::smooth_fitted_mesh(ref.tm, CGAL::parameters::number_of_iterations(20));
+  const meshfit::Smoothing_report b = meshfit::smooth_fitted_mesh(big.tm, CGAL::parameters::number_of_iterations(20));
+  CHECK(b.iterations == a.iterations);
+  std::size_t differ = 0;
+  for (auto v : ref.tm.vertices()) {
+    const Point_3& p = ref.tm.point(v);
+    differ += big.tm.point(v) != Point_3(p.x() * s, p.y() * s, p.z() * s);
+  }
+  CHECK(differ == 0);
+  const meshfit::Mesh_data small_data = meshfit::to_mesh_data(ref.tm), big_data = meshfit::to_mesh_data(big.tm);
+  CHECK(meshfit::minimum_angle_degrees(big_data) == Approx(meshfit::minimum_angle_degrees(small_data)).epsilon(1e-12));
+  CHECK(meshfit::minimum_angle_degrees(small_data) > 20);
+}
+
+TEST_CASE("unused vertices: one far away sets no scale, and the used vertices fit as without it", "[coordinate_range][fit]") {
+  // An unused vertex at 1e20 used to set the template's size: thresholds 1e20 times too large
+  // (extra vertices inserted, other vertices moved by up to 0.1), and at 1e80 a crash (GMP given
+  // a non-finite number in an exact distance comparison).
+  for (const double far : {1e20, 1e80}) {
+    INFO("unused vertex at x = " << far);
+    Inputs ref = example(), in = example();
+    const auto extra = in.tm.add_vertex(Point_3(far, 0, 0));
+    const meshfit::Fit_report base = meshfit::fit_template_to_curves(ref.tm, ref.network, ref.pairs);
+    const meshfit::Fit_report r = meshfit::fit_template_to_curves(in.tm, in.network, in.pairs);
+    REQUIRE(base.verification.passed());
+    CHECK(r.verification.passed());
+    // The added vertex is vertex n of the template, so the result's vertex i < n is the same
+    // vertex in both, and the vertices the stages add come after it.
+    REQUIRE(in.tm.number_of_vertices() == ref.tm.number_of_vertices() + 1);
+    const std::size_t n = extra.idx();
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < ref.tm.number_of_vertices(); ++i) {
+      const std::size_t j = i < n ? i : i + 1;
+      differ += ref.tm.point(Mesh::Vertex_index(static_cast<std::uint32_t>(i))) !=
+                in.tm.point(Mesh::Vertex_index(static_cast<std::uint32_t>(j)));
+    }
+    CHECK(differ == 0);
+  }
+}
+
+TEST_CASE("far curve points: a segment that leaves the surface is refused at once, naming its point",
+          "[coordinate_range][deform]") {
+  // A 2-point polyline from a network vertex to a point 100 away: its first point lies on the
+  // surface, so the polyline is not far as a whole; the surface fine level pulled the surface out
+  // to the other and untangled for minutes (killed at 60 s).
+  Inputs in = example();
+  std::vector<meshfit::Curve_network::Polyline> lines;
+  for (const auto& ids : in.network.polylines()) {
+    lines.emplace_back();
+    for (std::size_t v : ids) lines.back().push_back(in.network.point(v));
+  }
+  const Point_3 start = in.network.point(0);
+  lines.push_back({start, Point_3(start.x(), start.y() + 100, start.z())});
+  const meshfit::Curve_network network(lines);
+  const std::vector<meshfit::Correspondence> pairs =
+      meshfit::read_correspondences(std::string(MESHFIT_EXAMPLE_DATA_DIR) + "/pairs.txt", network);
+  try {
+    meshfit::deform_template(in.tm, network, pairs);
+    FAIL("no exception");
+  } catch (const meshfit::Algorithm_failure& e) {
+    const std::string what = e.what();
+    INFO(what);
+    CHECK(what.find("polyline " + std::to_string(lines.size()) + " (in file order), point 2") != std::string::npos);
+    CHECK(what.find("times the template's size") != std::string::npos);
   }
 }
 

@@ -24,9 +24,14 @@ constexpr double min_extent = 1e-100;     ///< smallest bounding-box diagonal of
 ///         not finite or larger than max_coordinate in magnitude.
 void check_coordinate_range(const Point_3& p, const Input_location& where, const std::string& element);
 
-/// \throws Invalid_input at `where`, naming `what` ("the template"), when `diagonal` (of its
-///         bounding box) is zero (all points coincide) or below min_extent.
-void check_extent(double diagonal, const Input_location& where, const std::string& what);
+/// The diagonal of `box`, computed without squaring its sides themselves (no underflow at 1e-200
+/// nor overflow at 1e200); 0 for an empty or one-point box.
+double bbox_diagonal(const Bbox_3& box);
+
+/// Returns the diagonal of `box` (the bounding box of the points of `what`).
+/// \throws Invalid_input at `where`, naming `what` ("the template"), when the diagonal is zero
+///         (all points coincide) or below min_extent.
+double check_extent(const Bbox_3& box, const Input_location& where, const std::string& what);
 
 }  // namespace meshfit
 

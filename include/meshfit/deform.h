@@ -876,22 +876,24 @@ namespace internal {
 template <typename TriangleMesh, typename NamedParameters>
 Deformation_report deform_template_in_place(TriangleMesh& tm, const Curve_network& network,
                                     const std::vector<Correspondence>& pairs, const NamedParameters& np) {
+  // The template and the network are each scaled to a unit-sized box, by powers of two of their
+  // own: the coarse level maps the one onto the other whatever their relative size (a template
+  // in millimetres, curves in metres), and everything after it works in the network's frame.
   const auto vpm = internal::vertex_point_map_of(tm, np);
-  Bbox_3 box = internal::checked_template_box(tm, vpm);
-  box += network.bbox();
-  const double s = internal::unit_scale(box);
-  if (s == 1) return internal::deform_template_unscaled(tm, network, pairs, np);
-  const Curve_network unit_network = internal::scaled(network, s);
-  internal::scale_points(tm, vpm, s);
+  const double st = internal::unit_scale(internal::checked_template_box(tm, vpm));
+  const double sn = internal::unit_scale(network.bbox());
+  if (st == 1 && sn == 1) return internal::deform_template_unscaled(tm, network, pairs, np);
+  const Curve_network unit_network = sn == 1 ? network : internal::scaled(network, sn);
+  internal::scale_points(tm, vpm, st);
   Deformation_report r;
   try {
     r = internal::deform_template_unscaled(tm, unit_network, pairs, np);
   } catch (...) {
-    internal::scale_points(tm, vpm, 1 / s);
+    internal::scale_points(tm, vpm, 1 / st);
     throw;
   }
-  internal::scale_points(tm, vpm, 1 / s);
-  r.largest_projection_distance /= s;
+  internal::scale_points(tm, vpm, 1 / sn);
+  r.largest_projection_distance /= sn;
   return r;
 }
 }  // namespace internal

@@ -422,9 +422,10 @@ Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& input_n
   // CGAL::copy_face_graph does not).
   // The stages run on the inputs scaled by a power of two to a unit-sized box (exact; see
   // coordinate_range.h): the result does not depend on the unit of the coordinates.
-  Bbox_3 box = internal::checked_template_box(tm, vpm);
-  box += input_network.bbox();
-  const double unit = internal::unit_scale(box);
+  // The template and the network each by a power of two of their own (see
+  // deform_template_in_place): the result is in the network's frame, scaled back by `unit`.
+  const double template_unit = internal::unit_scale(internal::checked_template_box(tm, vpm));
+  const double unit = internal::unit_scale(input_network.bbox());
   const Curve_network scaled_network = unit == 1 ? Curve_network() : internal::scaled(input_network, unit);
   const Curve_network& network = unit == 1 ? input_network : scaled_network;
   // (A Work_mesh whatever TriangleMesh is: the caller's points may be of any Cartesian kernel over
@@ -432,7 +433,7 @@ Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& input_n
   internal::Work_mesh work;
   {
     Mesh_data data = to_mesh_data(tm, CGAL::parameters::vertex_point_map(vpm));
-    for (Point_3& p : data.points) p = internal::scaled(p, unit);
+    for (Point_3& p : data.points) p = internal::scaled(p, template_unit);
     build_triangle_mesh(data, work);
   }
   const auto wvpm = get(CGAL::vertex_point, work);

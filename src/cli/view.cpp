@@ -11,6 +11,7 @@
 #include <meshfit/exceptions.h>
 #include <meshfit/io.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -103,17 +104,18 @@ class Blobs {
   int m_next = 0;
 };
 
-/// Positions as float32 relative to `origin` (a 1e6-translated mesh keeps its precision), and
-/// triangles, regions and curve edges of `mesh`, as the page's JSON object for a mesh.
+/// Positions as float32 relative to `origin` (a 1e6-translated mesh keeps its precision) and
+/// multiplied by `scale` (a mesh at 1e40 does not overflow float32, one at 1e-45 does not vanish),
+/// and triangles, regions and curve edges of `mesh`, as the page's JSON object for a mesh.
 std::string write_mesh(Blobs& blobs, const meshfit::Mesh_data& mesh, const std::string& path,
-                       const meshfit::Point_3& origin) {
+                       const meshfit::Point_3& origin, double scale) {
   const auto& p = mesh.points;
   const auto& t = mesh.triangles;
   std::ostringstream js;
   js << "{\"name\": " << json_string(base_name(path)) << ", \"vertices\": " << p.size()
      << ", \"faces\": " << t.size() << ", \"positions\": \""
      << blobs.write<float>(3 * p.size(), [&](std::size_t i) {
-          return static_cast<float>(p[i / 3][int(i % 3)] - origin[int(i % 3)]);
+          return static_cast<float>((p[i / 3][int(i % 3)] - origin[int(i % 3)]) * scale);
         })
      << "\", \"triangles\": \""
      << blobs.write<std::uint32_t>(3 * t.size(), [&](std::size_t i) { return std::uint32_t(t[i / 3][i % 3]); })
@@ -193,12 +195,17 @@ View_summary write_view_page(std::ostream& os, const View_inputs& in) {
   const meshfit::Bbox_3& box = network.bbox();
   const meshfit::Point_3 origin((box.xmin() + box.xmax()) / 2, (box.ymin() + box.ymax()) / 2,
                                 (box.zmin() + box.zmax()) / 2);
+  // The page draws in a frame where the network's largest side is in [1, 2): a power of two, so
+  // that the page's file coordinates map to it exactly.
+  const double side = std::max({box.xmax() - box.xmin(), box.ymax() - box.ymin(), box.zmax() - box.zmin()});
+  const double scale = side > 0 && std::isfinite(side) ? std::ldexp(1.0, -std::ilogb(side)) : 1.0;
   for (const char* chunk : viewer_page_head) os << chunk;
   Blobs blobs(os);
   std::ostringstream js;
   js << std::setprecision(17);
   js << "{\"format\": 1, \"origin\": [" << origin.x() << ", " << origin.y() << ", " << origin.z() << "], "
-     << "\"tolerance\": " << network.tolerance() << ",\n\"template\": " << write_mesh(blobs, templ, in.template_path, origin);
+     << "\"scale\": " << scale << ", \"tolerance\": " << network.tolerance()
+     << ",\n\"template\": " << write_mesh(blobs, templ, in.template_path, origin, scale);
   const auto& np = network.points();
   js << ",\n\"network\": {\"name\": " << json_string(base_name(in.curves_path)) << ", \"vertices\": " << np.size()
      << ", \"segments\": " << network.number_of_segments() << ", \"points\": \""
@@ -214,7 +221,7 @@ View_summary write_view_page(std::ostream& os, const View_inputs& in) {
     js << (k ? ", " : "") << "[" << pairs[k].template_vertex << ", " << pairs[k].network_vertex << "]";
   js << "],\n\"results\": [";
   for (std::size_t k = 0; k < results.size(); ++k) {
-    std::string mesh = write_mesh(blobs, results[k], in.results[k], origin);
+    std::string mesh = write_mesh(blobs, results[k], in.results[k], origin, scale);
     mesh.pop_back();  // the closing brace: the report goes inside the result's object
     const bool has_report = k < reports.size() && !in.reports[k].empty();
     js << (k ? ",\n" : "") << mesh << ", \"report_name\": " << (has_report ? json_string(base_name(in.reports[k])) : "null")

@@ -11,6 +11,7 @@
 #include <meshfit/flip.h>
 #include <meshfit/internal/angle_flips.h>
 #include <meshfit/internal/clear_mesh.h>
+#include <meshfit/internal/format_number.h>
 #include <meshfit/internal/resample_network.h>
 #include <meshfit/internal/stage_support.h>
 #include <meshfit/internal/subdivide.h>
@@ -245,13 +246,14 @@ std::optional<std::size_t> genus_zero_border_cycles(const TriangleMesh& tm) {
   return cycles;
 }
 
-/// The diagonal of the bounding box of the mesh's points.
+/// The diagonal of the bounding box of the mesh's points that lie on a face (a vertex on no face,
+/// unused, sets no scale: see checked_template_box).
 template <typename TriangleMesh, typename VPM>
 double bbox_diagonal(const TriangleMesh& tm, const VPM& vpm) {
   Bbox_3 box;
-  for (auto v : vertices(tm)) box += get(vpm, v).bbox();
-  return std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
-                   CGAL::square(box.zmax() - box.zmin()));
+  for (auto v : vertices(tm))
+    if (halfedge(v, tm) != boost::graph_traits<TriangleMesh>::null_halfedge()) box += get(vpm, v).bbox();
+  return meshfit::bbox_diagonal(box);
 }
 
 /// The mean length of the mesh's edges (0 when it has none): the scale of the template against
@@ -275,31 +277,47 @@ inline std::string name_polylines(const std::vector<std::size_t>& polylines) {
 }
 
 /// \throws Algorithm_failure naming the polylines all of whose points are far from the surface
-///         (`far(v)` for every network vertex v of the polyline): no fine level can bring them
-///         onto it, and the thesis level would subdivide without end trying.
-template <typename IsFar>
-void refuse_far_polylines(const Curve_network& network, const IsFar& far) {
+///         (`distance(v)`, the distance of network vertex v from it, more than a tenth of
+///         `size`, the template's bounding-box diagonal): no fine level can bring them onto it,
+///         and the thesis level would subdivide without end trying; or naming the first point
+///         farther than `size` itself, a piece of a polyline that leaves the surface (the rest of
+///         its polyline may lie on it): the fine level would pull the surface out to it and
+///         untangle what that folds, for minutes.
+template <typename Distance>
+void refuse_far_polylines(const Curve_network& network, const Distance& distance, double size) {
   std::vector<std::size_t> lines;
   for (std::size_t k = 0; k < network.polylines().size(); ++k) {
     const auto& pl = network.polylines()[k];
-    if (std::all_of(pl.begin(), pl.end(), far)) lines.push_back(k);
+    if (std::all_of(pl.begin(), pl.end(), [&](std::size_t v) { return distance(v) > 0.1 * size; })) lines.push_back(k);
   }
-  if (lines.empty()) return;
-  const char* them = lines.size() == 1 ? "it" : "them";
-  throw Algorithm_failure("deform", name_polylines(lines) + " (in file order) lie" + (lines.size() == 1 ? "s" : "") +
-                                        " far from the template after the coarse level (every point farther than "
-                                        "a tenth of its size): give a correspondence on " + them + ", or remove " +
-                                        them);
+  if (!lines.empty()) {
+    const char* them = lines.size() == 1 ? "it" : "them";
+    throw Algorithm_failure("deform", name_polylines(lines) + " (in file order) lie" + (lines.size() == 1 ? "s" : "") +
+                                          " far from the template after the coarse level (every point farther than "
+                                          "a tenth of its size): give a correspondence on " + them + ", or remove " +
+                                          them);
+  }
+  for (std::size_t k = 0; k < network.polylines().size(); ++k) {
+    const auto& pl = network.polylines()[k];
+    for (std::size_t i = 0; i < pl.size(); ++i) {
+      const double d = distance(pl[i]);
+      if (!(d > size)) continue;
+      throw Algorithm_failure("deform", name_polylines({k}) + " (in file order), point " + std::to_string(i + 1) +
+                                            ", lies " + format_number(d / size) +
+                                            " times the template's size away from it after the coarse level: "
+                                            "curves must run on the surface; check that point, or remove it");
+    }
+  }
 }
 
-/// refuse_far_polylines with "far" meaning farther than a tenth of the bounding-box diagonal of `tm`.
+/// refuse_far_polylines with the distances to the faces of `tm` and its bounding-box diagonal.
 template <typename TriangleMesh, typename VPM>
 void check_polylines_near(const TriangleMesh& tm, const VPM& vpm, const Curve_network& network) {
   using Primitive = CGAL::AABB_face_graph_triangle_primitive<TriangleMesh, VPM>;
   CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>> tree(faces(tm).first, faces(tm).second, tm, vpm);
   tree.accelerate_distance_queries();
-  const double far2 = CGAL::square(0.1 * bbox_diagonal(tm, vpm));
-  refuse_far_polylines(network, [&](std::size_t v) { return tree.squared_distance(network.point(v)) > far2; });
+  refuse_far_polylines(
+      network, [&](std::size_t v) { return std::sqrt(tree.squared_distance(network.point(v))); }, bbox_diagonal(tm, vpm));
 }
 
 /// The surface point of each network vertex, tracked along the curves: from the user's pairs
@@ -712,7 +730,7 @@ Deformation_report fine_on_surface(TriangleMesh& tm, const Curve_network& networ
       distance[v] = std::sqrt(CGAL::squared_distance(tree.closest_point(network.point(v)), network.point(v)));
       report.largest_projection_distance = std::max(report.largest_projection_distance, distance[v]);
     }
-    internal::refuse_far_polylines(network, [&](std::size_t v) { return distance[v] > 0.1 * diag; });
+    internal::refuse_far_polylines(network, [&](std::size_t v) { return distance[v]; }, diag);
   }
 
   // Boundary: the vertices of curves that run along the template's border go onto the border (a
@@ -946,7 +964,15 @@ Deformation_report fine_on_surface(TriangleMesh& tm, const Curve_network& networ
   auto curve = get(CGAL::dynamic_edge_property_t<bool>(), tm);
   for (auto e : edges(tm)) put(curve, e, false);
   if (!lines.empty()) {
-    const Curve_network projected(lines);
+    // One polyline per segment, numbered by the code, not the user's file: the network's own
+    // refusals (two points merged within its tolerance) say that the curves are too dense here.
+    const Curve_network projected = [&] {
+      try {
+        return Curve_network(lines);
+      } catch (const Invalid_input&) {
+        throw Algorithm_failure("deform", too_dense);
+      }
+    }();
     std::vector<bool> used(nv, false);
     for (std::size_t k = 0; k < network.segments().size(); ++k)
       if (arc[k].empty()) used[network.segments()[k][0]] = used[network.segments()[k][1]] = true;

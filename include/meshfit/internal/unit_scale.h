@@ -27,21 +27,22 @@ double unit_scale(const Bbox_3& box);
 /// indices, the same relative merge tolerance.
 Curve_network scaled(const Curve_network& network, double s);
 
-/// The bounding box of the template's points, after checking them against the supported range
-/// (check_coordinate_range, check_extent; the element named is "template vertex i").
+/// The bounding box of the template's points that lie on a face, after checking every point
+/// against the supported range (check_coordinate_range, check_extent; the element named is
+/// "template vertex i"). A vertex on no face sets no scale: one unused vertex at 1e80 would
+/// otherwise shrink the surface itself to 1e-80 in the unit frame.
 template <typename TriangleMesh, typename VPM>
 Bbox_3 checked_template_box(const TriangleMesh& tm, const VPM& vpm) {
-  Bbox_3 box;
+  Bbox_3 box, all;
   std::size_t i = 0;
   for (auto v : vertices(tm)) {
     const auto& q = get(vpm, v);
     const Point_3 p(q.x(), q.y(), q.z());  // (any point type with double coordinates)
     check_coordinate_range(p, Input_location{}, "template vertex " + std::to_string(i++));
-    box += p.bbox();
+    all += p.bbox();
+    if (halfedge(v, tm) != boost::graph_traits<TriangleMesh>::null_halfedge()) box += p.bbox();
   }
-  const double diagonal = std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
-                                    CGAL::square(box.zmax() - box.zmin()));
-  if (i > 0) check_extent(diagonal, Input_location{}, "the template");
+  if (i > 0) check_extent(all, Input_location{}, "the template");
   return box;
 }
 

@@ -43,6 +43,7 @@
     };
   }
   const origin = data.origin;
+  const scale = data.scale || 1; // file coordinates -> drawing: (x - origin) * scale
   let template = decodeMesh(data.template);
   let results = data.results.map(decodeMesh);
   const network = {
@@ -52,7 +53,7 @@
   };
   const networkCount = network.points.length / 3;
   network.display = new Float32Array(3 * networkCount);
-  for (let i = 0; i < 3 * networkCount; ++i) network.display[i] = network.points[i] - origin[i % 3];
+  for (let i = 0; i < 3 * networkCount; ++i) network.display[i] = (network.points[i] - origin[i % 3]) * scale;
 
   // ---- display decimation: vertex clustering on a grid -----------------------------------------
   // A mesh above `maxDisplayFaces` is shown decimated. When a full frame takes longer than 40 ms
@@ -624,7 +625,7 @@
   api.screenOfPoint = (kind, point) => {
     // Where a point given in the files' coordinates is drawn beside the template or the network,
     // in CSS pixels of the page, and the direction to the eye (for tests to aim their clicks).
-    const p = new THREE.Vector3(point[0] - origin[0], point[1] - origin[1], point[2] - origin[2])
+    const p = new THREE.Vector3((point[0] - origin[0]) * scale, (point[1] - origin[1]) * scale, (point[2] - origin[2]) * scale)
       .applyMatrix4((kind === 'template' ? templateGroup : targetGroup).matrixWorld);
     const q = p.clone().project(camera);
     const r = renderer.domElement.getBoundingClientRect();
