@@ -907,8 +907,9 @@ Deformation_report deform_template_in_place(TriangleMesh& tm, const Curve_networ
 /// The report holds the figures of both. When the coarse level reverses the orientation (pairs
 /// that mirror the template), the fine level is not run: the report says so and the caller
 /// decides (the command line fails with exit status 3).
-/// The levels run on the inputs scaled by a power of two to a unit-sized box (exact; see
-/// coordinate_range.h), so the result does not depend on the unit of the coordinates.
+/// The levels run on the template and the network each scaled by a power of two to a unit-sized
+/// box (exact; see coordinate_range.h), so the result depends neither on the unit of the
+/// coordinates nor on the template's size against the curves'.
 /// The work is done on a copy of `tm` (internal/commit_result.h): an exception (a cancel from the
 /// `progress` callback, Algorithm_failure, …) leaves `tm`, its property maps and their values as
 /// they were; on success the result is written into `tm` in place, as fit_template_to_curves does

@@ -420,10 +420,9 @@ Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& input_n
 
   // The copy the stages work on (through Mesh_data, which keeps the order of vertices and faces;
   // CGAL::copy_face_graph does not).
-  // The stages run on the inputs scaled by a power of two to a unit-sized box (exact; see
-  // coordinate_range.h): the result does not depend on the unit of the coordinates.
-  // The template and the network each by a power of two of their own (see
-  // deform_template_in_place): the result is in the network's frame, scaled back by `unit`.
+  // The stages run on the template and the network each scaled by a power of two of their own to
+  // a unit-sized box (exact; see coordinate_range.h and deform_template_in_place): the result,
+  // in the network's frame, is scaled back by `unit`.
   const double template_unit = internal::unit_scale(internal::checked_template_box(tm, vpm));
   const double unit = internal::unit_scale(input_network.bbox());
   const Curve_network scaled_network = unit == 1 ? Curve_network() : internal::scaled(input_network, unit);
