@@ -22,6 +22,23 @@ if(SHARED)
 elseif(NOT static_libraries OR shared_libraries)
   message(FATAL_ERROR "a static build must install libmeshfit.a (and no libmeshfit.so): ${static_libraries} ${shared_libraries}")
 endif()
+# The exported link interface names targets, never a file by its absolute path (a package built
+# here must work where the libraries live elsewhere): the config finds each dependency again.
+file(GLOB targets_file "${WORK_DIR}/prefix/lib*/cmake/meshfit/meshfitTargets.cmake")
+if(NOT targets_file)
+  message(FATAL_ERROR "no meshfitTargets.cmake installed under ${WORK_DIR}/prefix")
+endif()
+file(READ "${targets_file}" exported)
+string(REGEX MATCHALL "INTERFACE_LINK_LIBRARIES \"[^\"]*\"" link_interfaces "${exported}")
+if(NOT link_interfaces)
+  message(FATAL_ERROR "${targets_file} has no INTERFACE_LINK_LIBRARIES")
+endif()
+# (Items are separated by ';' (the list MATCHALL returns is joined by ';' too), or start a
+# generator expression: $<LINK_ONLY:/usr/lib/...>.)
+if(link_interfaces MATCHES "[\";:>]/" OR link_interfaces MATCHES "/usr/lib")
+  message(FATAL_ERROR "the exported target links a library by its absolute path:\n${link_interfaces}")
+endif()
+message("exported link interface (no absolute path): ${link_interfaces}")
 run(${CMAKE_COMMAND} -S "${CONSUMER_SOURCE_DIR}" -B "${WORK_DIR}/build"
     -DCMAKE_BUILD_TYPE=${BUILD_TYPE} "-DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix")
 run(${CMAKE_COMMAND} --build "${WORK_DIR}/build")
