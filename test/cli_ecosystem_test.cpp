@@ -708,3 +708,40 @@ TEST_CASE("cli ecosystem: fit carries the template's texture coordinates, normal
   CHECK(sm.vt == in.vt);
   CHECK(sm.vn == in.vn);
 }
+
+TEST_CASE("cli ecosystem: --threads N limits the commands that compute; a bad N is a usage error (exit 2)",
+          "[cli][ecosystem][threads]") {
+  Temp_dir dir;
+  for (const std::string command : {"fit", "deform", "partition", "smooth"}) {
+    INFO(command);
+    CHECK(run(dir, command + " --help").out.find("--threads") != std::string::npos);
+  }
+  CHECK(run(dir, "check --help").out.find("--threads") == std::string::npos);
+
+  const Run_result one = run(dir, "fit --quiet --threads 1" + example_inputs + " --output f.ply --report f.json");
+  INFO(one.err);
+  REQUIRE(one.status == 0);
+  CHECK(read_json(dir.file("f.json"))["counts"]["regions"] == 12);
+  const std::string curves = q(data + "/curves.polylines.txt");
+  CHECK(run(dir, "deform --quiet --threads=2" + example_inputs + " --output d.ply").status == 0);
+  CHECK(run(dir, "partition --quiet --threads 1 --template d.ply --curves " + curves + " --output p.ply").status == 0);
+  CHECK(run(dir, "smooth --quiet --threads 1 --template p.ply --curves " + curves + " --output s.ply").status == 0);
+
+  for (const std::string bad : {"0", "-1", "abc", "1.5", "2x", "99999999999999999999"}) {
+    INFO("--threads=" << bad);
+    const Run_result r = run(dir, "fit --quiet --threads=" + bad + example_inputs + " --output b.ply --report b.json");
+    CHECK(r.status == 2);
+    CHECK(r.err.find("--threads needs an integer from 1 to 4096, not '" + bad + "'") != std::string::npos);
+    CHECK_FALSE(std::filesystem::exists(dir.file("b.ply")));
+    const Json j = read_json(dir.file("b.json"));
+    CHECK(j["exit_status"] == 2);
+    CHECK(j["stage"] == "usage");
+  }
+  // As separate words too (CLI11 takes "-1" as a value, or refuses it: either way exit 2).
+  for (const std::string bad : {"0", "-1", "abc"}) {
+    INFO("--threads " << bad);
+    const Run_result r = run(dir, "smooth --quiet --threads " + bad + " --template p.ply --output b.ply");
+    CHECK(r.status == 2);
+    CHECK(r.err.find("--threads needs an integer from 1 to 4096, not '" + bad + "'") != std::string::npos);
+  }
+}

@@ -7,6 +7,7 @@
 #include <meshfit/io.h>
 #include <meshfit/partition.h>
 #include <meshfit/smooth.h>
+#include <meshfit/threads.h>
 #include <meshfit/version.h>
 
 #include "../write_file.h"
@@ -28,6 +29,7 @@
 #include <iomanip>
 #include <sstream>
 
+#include <cerrno>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
@@ -83,6 +85,8 @@ const Option_spec option_specs[] = {
     {"--merge-tolerance", "X", "curve points closer than X times the network's bounding-box diagonal are one network "
                                "vertex (default 1e-9)"},
     {"--quiet", nullptr, "no progress on stderr"},
+    {"--threads", "N", "use at most N threads (N >= 1; OpenMP and OpenBLAS); default: every core, or "
+                       "OMP_NUM_THREADS / OPENBLAS_NUM_THREADS when set"},
     {"--curves-in-mesh", nullptr, "curve edges inside the output (.ply edge element flagged curve, .obj l lines) "
                                   "instead of OUT.curves.polylines.txt"},
     {"--coarse-only", nullptr, "stop after the coarse level (RBF through the given pairs)"},
@@ -121,7 +125,9 @@ const std::vector<Command_spec>& command_specs() {
     a.insert(a.end(), b.begin(), b.end());
     return a;
   };
-  static const std::vector<const char*> common{"--report", "--merge-tolerance", "--quiet", "--curves-in-mesh"};
+  // (check and view compute little and on one thread: no --threads.)
+  static const std::vector<const char*> common{"--report", "--merge-tolerance", "--quiet", "--curves-in-mesh",
+                                               "--threads"};
   static const std::vector<Command_spec> specs{
       {"fit", "Runs the whole pipeline: deform, partition, smooth, verify.",
        {"--template", "--curves", "--correspondences", "--output"},
@@ -299,6 +305,20 @@ Parsed parse(int argc, char** argv) {
     }
   }
   return parsed;
+}
+
+/// --threads N: limits OpenMP's and OpenBLAS's threads (meshfit::set_number_of_threads); called by
+/// every command that computes, after the output paths are checked (so a bad value is reported).
+void apply_thread_limit(const Command_line& cl) {
+  const auto it = cl.values.find("--threads");
+  if (it == cl.values.end()) return;
+  const std::string& t = it->second;
+  char* end = nullptr;
+  errno = 0;
+  const long v = std::strtol(t.c_str(), &end, 10);
+  if (end == t.c_str() || *end != '\0' || errno != 0 || v < 1 || v > 4096)
+    throw Usage_error{"--threads needs an integer from 1 to 4096, not '" + t + "'"};
+  meshfit::set_number_of_threads(static_cast<int>(v));
 }
 
 double merge_tolerance(const Command_line& cl) {
@@ -763,6 +783,7 @@ int run_deform(const Command_line& cl) {
   const std::string& pairs_path = cl.values.at("--correspondences");
   const std::vector<std::string> inputs{template_path, curves_path, pairs_path};
   const std::string report_path = check_outputs(cl, inputs);
+  apply_thread_limit(cl);
 
   const Deform_options options = deform_options(cl);
   const meshfit::Rbf_kernel kernel = options.kernel;
@@ -850,6 +871,7 @@ int run_partition(const Command_line& cl) {
   const std::string& curves_path = cl.values.at("--curves");
   const std::vector<std::string> inputs{mesh_path, curves_path};
   const std::string report_path = check_outputs(cl, inputs);
+  apply_thread_limit(cl);
 
   Mesh tm;
   const auto t0 = std::chrono::steady_clock::now();
@@ -960,6 +982,7 @@ int run_smooth(const Command_line& cl) {
   std::vector<std::string> inputs{template_path};
   if (cl.values.count("--curves")) inputs.push_back(cl.values.at("--curves"));
   const std::string report_path = check_outputs(cl, inputs);
+  apply_thread_limit(cl);
   const Smooth_options so = smooth_options(cl);
   const long mc = so.mean_curvature_iterations, lap = so.laplacian_iterations;
   const double step = so.step;
@@ -1109,6 +1132,7 @@ int run_fit(const Command_line& cl) {
   const std::vector<std::string> inputs{cl.values.at("--template"), cl.values.at("--curves"),
                                         cl.values.at("--correspondences")};
   const std::string report_path = check_outputs(cl, inputs);
+  apply_thread_limit(cl);
   const Deform_options d = deform_options(cl);
   const Smooth_options so = smooth_options(cl);
   Fit_inputs in;
