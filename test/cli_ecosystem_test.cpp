@@ -17,6 +17,7 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <set>
 #include <sstream>
 
@@ -185,6 +186,34 @@ TEST_CASE("cli ecosystem: every report has the same top-level keys, those of doc
         meshfit::minimum_angle_degrees(meshfit::read_mesh_data(dir.file("f.ply"))));
   CHECK(f["outputs"]["curves"] == "f.ply.curves.polylines.txt");
   CHECK(f["details"]["verification"]["expected_regions"] == 12);
+  // Every key of timings_s, counts, quality and details (and of the blocks in details) is named in
+  // doc/report.md; the figure partition and fit share has one name in both (partition keeps the
+  // deprecated vertices_moved beside it, as doc/report.md says).
+  const std::string doc = read_text(data + "/../../doc/report.md");
+  std::function<void(const Json&, const std::string&)> documented = [&](const Json& block, const std::string& where) {
+    for (auto it = block.begin(); it != block.end(); ++it) {
+      INFO(where << "." << it.key());
+      CHECK(doc.find("`" + it.key() + "`") != std::string::npos);
+      if (it->is_object()) documented(*it, where + "." + it.key());
+    }
+  };
+  for (const std::string name : {"d", "p", "s", "f"}) {
+    const Json j = read_json(dir.file(name + ".json"));
+    for (const char* block : {"timings_s", "counts", "quality", "details"}) documented(j[block], name + "." + block);
+  }
+  const Json p = read_json(dir.file("p.json"));
+  CHECK(p["counts"]["vertices_moved_onto_segments"] == p["counts"]["vertices_moved"]);
+  CHECK(f["counts"].contains("vertices_moved_onto_segments"));
+  CHECK_FALSE(f["counts"].contains("vertices_moved"));
+  CHECK(doc.find("`vertices_moved`, **deprecated**") != std::string::npos);
+  for (const std::string name : {"d", "f"}) {
+    const Json fine = read_json(dir.file(name + ".json"))["details"]["fine_level"];
+    for (const char* key : {"approach", "approach_constraints", "approach_scale", "approach_retried"}) {
+      INFO(name << ": " << key);
+      CHECK(fine.contains(key));
+    }
+    CHECK((fine["approach"] == "icp" || fine["approach"] == "nearest_vertices" || fine["approach"] == "none"));
+  }
   // Strings are escaped: a failure naming a file with a quote and a backslash parses back.
   const std::string odd = dir.write("o\"dd\\name.polylines.txt", "3 0 0 0 1 0\n");
   CHECK(run(dir, "fit --quiet --template " + q(data + "/template.off") + " --curves " + q(odd) + " --correspondences " +

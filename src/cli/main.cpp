@@ -1,4 +1,4 @@
-// The meshfit command: subcommands and exit codes as fixed in DESIGN.md.
+// The meshfit command: subcommands and exit codes as fixed in doc/design.md.
 //   0 success; 1 invalid input; 2 usage error; 3 the algorithm could not complete.
 #include <meshfit/check.h>
 #include <meshfit/deform.h>
@@ -918,7 +918,8 @@ int run_partition(const Command_line& cl) {
                   {"walks_failed", r.walks_failed},
                   {"faces_crossed", r.faces_crossed},
                   {"edge_flips", r.edge_flips},
-                  {"vertices_moved", r.vertices_moved},
+                  {"vertices_moved_onto_segments", r.vertices_moved},
+                  {"vertices_moved", r.vertices_moved},  // deprecated (doc/report.md): the same figure
                   {"curve_edges", r.curve_edges},
                   {"regions", r.regions}};
   js["quality"] = json_quality(out);
