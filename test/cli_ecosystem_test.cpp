@@ -774,3 +774,29 @@ TEST_CASE("cli ecosystem: --threads N limits the commands that compute; a bad N 
     CHECK(r.err.find("--threads needs an integer from 1 to 4096, not '" + bad + "'") != std::string::npos);
   }
 }
+
+TEST_CASE("cli ecosystem: a report named like an output is refused with a message naming that output",
+          "[cli][ecosystem]") {
+  Temp_dir dir;
+  // The report on the mesh output, and on the curve file beside it: exit 1 before any work, a
+  // message that says which output, not "input".
+  const Run_result mesh = run(dir, "fit --quiet" + example_inputs + " --output o.ply --report o.ply");
+  CHECK(mesh.status == 1);
+  CHECK(mesh.err.find("the report is the output mesh 'o.ply'") != std::string::npos);
+  CHECK(mesh.err.find("input") == std::string::npos);
+  const Run_result curves =
+      run(dir, "fit --quiet" + example_inputs + " --output o.ply --report o.ply.curves.polylines.txt");
+  CHECK(curves.status == 1);
+  CHECK(curves.err.find("the report is the curve file written beside the output 'o.ply.curves.polylines.txt'") !=
+        std::string::npos);
+  CHECK_FALSE(std::filesystem::exists(dir.file("o.ply")));
+  // The same file under another name, once it exists.
+  REQUIRE(run(dir, "fit --quiet" + example_inputs + " --output o.ply").status == 0);
+  const Run_result other = run(dir, "fit --quiet" + example_inputs + " --output o.ply --report ./o.ply");
+  CHECK(other.status == 1);
+  CHECK(other.err.find("the report is the output mesh") != std::string::npos);
+  // A report on an input is refused as before, naming the input.
+  const Run_result input = run(dir, "fit --quiet" + example_inputs + " --output q.ply --report " + q(data + "/pairs.txt"));
+  CHECK(input.status == 1);
+  CHECK(input.err.find("the output is the input file") != std::string::npos);
+}

@@ -479,6 +479,17 @@ Json report_skeleton(const std::string& command, const std::string& failure, con
   return j;
 }
 
+/// Whether `a` and `b` name the same file: the same existing file, or the same path once made
+/// absolute and normal (as meshfit::check_output_path compares an output with an input).
+bool same_file(const std::string& a, const std::string& b) {
+  std::error_code e1, e2, e3;
+  if (std::filesystem::exists(a, e1) && std::filesystem::exists(b, e2) && std::filesystem::equivalent(a, b, e3))
+    return true;
+  std::error_code ea, eb;
+  const std::filesystem::path ca = std::filesystem::weakly_canonical(a, ea), cb = std::filesystem::weakly_canonical(b, eb);
+  return !ea && !eb && ca == cb;
+}
+
 /// Checks the output paths before any work: the mesh output's format, that it, its curve file and
 /// the report can be written (regular files in existing directories), and that none is an input or
 /// another output. Returns the report path ("" when none; "-" for stdout).
@@ -494,16 +505,24 @@ std::string check_outputs(const Command_line& cl, const std::vector<std::string>
   pending_report.outputs["curves"] = nullptr;
   std::vector<std::string> others = inputs;
   others.push_back(output);
+  std::vector<std::pair<std::string, std::string>> outputs{{"the output mesh", output}};
   if (!cl.curves_in_mesh && cl.command != "deform") {
     const std::string curves = meshfit::curve_edges_path(output);
     meshfit::check_output_path(curves, others);
     others.push_back(curves);
+    outputs.emplace_back("the curve file written beside the output", curves);
   }
   pending_report.outputs["regions"] = nullptr;
   std::string report_path;
   if (cl.values.count("--report")) {
     report_path = cl.values.at("--report");
     if (report_path != "-") {
+      // The report on an output: a message that names that output (check_output_path's speaks of
+      // an input).
+      for (const auto& [what, path] : outputs)
+        if (same_file(report_path, path))
+          throw meshfit::Invalid_input(meshfit::Input_location{report_path, 0, meshfit::Input_location::no_offset},
+                                       "the report is " + what + " '" + path + "'; give the report a name of its own");
       meshfit::check_output_path(report_path, others);
       for (const std::string& o : others)
         if (o != report_path) meshfit::check_output_path(o, {report_path});
