@@ -738,7 +738,7 @@ TEST_CASE("cli ecosystem: fit carries the template's texture coordinates, normal
   CHECK(sm.vn == in.vn);
 }
 
-TEST_CASE("cli ecosystem: --threads N limits the commands that compute; a bad N is a usage error (exit 2)",
+TEST_CASE("cli ecosystem: --threads N limits the commands that compute, and a bad N is a usage error (exit 2)",
           "[cli][ecosystem][threads]") {
   Temp_dir dir;
   for (const std::string command : {"fit", "deform", "partition", "smooth"}) {
