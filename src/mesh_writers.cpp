@@ -201,7 +201,7 @@ void write_obj(std::ostream& os, const Mesh_data& mesh, bool curves_in_mesh) {
     if (normals) w << '/' << v + 1;
   };
   // One group per region, in increasing region order (faces of a region keep their order), as
-  // DESIGN.md fixes; so the faces of an OBJ come back grouped, not in the mesh's face order.
+  // doc/design.md fixes; so the faces of an OBJ come back grouped, not in the mesh's face order.
   std::vector<std::size_t> order(mesh.triangles.size());
   for (std::size_t f = 0; f < order.size(); ++f) order[f] = f;
   if (!mesh.face_patch.empty())

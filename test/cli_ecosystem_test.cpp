@@ -19,6 +19,7 @@
 #include <cstring>
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <set>
 #include <sstream>
 
@@ -187,6 +188,34 @@ TEST_CASE("cli ecosystem: every report has the same top-level keys, those of doc
         meshfit::minimum_angle_degrees(meshfit::read_mesh_data(dir.file("f.ply"))));
   CHECK(f["outputs"]["curves"] == "f.ply.curves.polylines.txt");
   CHECK(f["details"]["verification"]["expected_regions"] == 12);
+  // Every key of timings_s, counts, quality and details (and of the blocks in details) is named in
+  // doc/report.md; the figure partition and fit share has one name in both (partition keeps the
+  // deprecated vertices_moved beside it, as doc/report.md says).
+  const std::string doc = read_text(data + "/../../doc/report.md");
+  std::function<void(const Json&, const std::string&)> documented = [&](const Json& block, const std::string& where) {
+    for (auto it = block.begin(); it != block.end(); ++it) {
+      INFO(where << "." << it.key());
+      CHECK(doc.find("`" + it.key() + "`") != std::string::npos);
+      if (it->is_object()) documented(*it, where + "." + it.key());
+    }
+  };
+  for (const std::string name : {"d", "p", "s", "f"}) {
+    const Json j = read_json(dir.file(name + ".json"));
+    for (const char* block : {"timings_s", "counts", "quality", "details"}) documented(j[block], name + "." + block);
+  }
+  const Json p = read_json(dir.file("p.json"));
+  CHECK(p["counts"]["vertices_moved_onto_segments"] == p["counts"]["vertices_moved"]);
+  CHECK(f["counts"].contains("vertices_moved_onto_segments"));
+  CHECK_FALSE(f["counts"].contains("vertices_moved"));
+  CHECK(doc.find("`vertices_moved`, **deprecated**") != std::string::npos);
+  for (const std::string name : {"d", "f"}) {
+    const Json fine = read_json(dir.file(name + ".json"))["details"]["fine_level"];
+    for (const char* key : {"approach", "approach_constraints", "approach_scale", "approach_retried"}) {
+      INFO(name << ": " << key);
+      CHECK(fine.contains(key));
+    }
+    CHECK((fine["approach"] == "icp" || fine["approach"] == "nearest_vertices" || fine["approach"] == "none"));
+  }
   // Strings are escaped: a failure naming a file with a quote and a backslash parses back.
   const std::string odd = dir.write("o\"dd\\name.polylines.txt", "3 0 0 0 1 0\n");
   CHECK(run(dir, "fit --quiet --template " + q(data + "/template.off") + " --curves " + q(odd) + " --correspondences " +
@@ -237,7 +266,7 @@ TEST_CASE("cli ecosystem: smooth on a PLY CGAL wrote (every edge listed) holds o
   CHECK(j["warnings"].size() == 1);
 }
 
-TEST_CASE("cli ecosystem: meshfit's outputs fed back as curves; pairs by network vertex index", "[cli][ecosystem]") {
+TEST_CASE("cli ecosystem: meshfit's outputs fed back as curves, pairs by network vertex index", "[cli][ecosystem]") {
   Temp_dir dir;
   const std::string curves = q(data + "/curves.polylines.txt");
   REQUIRE(run(dir, "deform --quiet" + example_inputs + " --output d.ply").status == 0);
@@ -793,4 +822,67 @@ TEST_CASE("cli ecosystem: view draws meshes at 1e40 and 1e-45 (float32's range) 
     CHECK(largest > 1.0f / 16);  // the network's largest side is in [1, 2) on the page
     CHECK(largest < 16.0f);
   }
+}
+
+TEST_CASE("cli ecosystem: --threads N limits the commands that compute, and a bad N is a usage error (exit 2)",
+          "[cli][ecosystem][threads]") {
+  Temp_dir dir;
+  for (const std::string command : {"fit", "deform", "partition", "smooth"}) {
+    INFO(command);
+    CHECK(run(dir, command + " --help").out.find("--threads") != std::string::npos);
+  }
+  CHECK(run(dir, "check --help").out.find("--threads") == std::string::npos);
+
+  const Run_result one = run(dir, "fit --quiet --threads 1" + example_inputs + " --output f.ply --report f.json");
+  INFO(one.err);
+  REQUIRE(one.status == 0);
+  CHECK(read_json(dir.file("f.json"))["counts"]["regions"] == 12);
+  const std::string curves = q(data + "/curves.polylines.txt");
+  CHECK(run(dir, "deform --quiet --threads=2" + example_inputs + " --output d.ply").status == 0);
+  CHECK(run(dir, "partition --quiet --threads 1 --template d.ply --curves " + curves + " --output p.ply").status == 0);
+  CHECK(run(dir, "smooth --quiet --threads 1 --template p.ply --curves " + curves + " --output s.ply").status == 0);
+
+  for (const std::string bad : {"0", "-1", "abc", "1.5", "2x", "99999999999999999999"}) {
+    INFO("--threads=" << bad);
+    const Run_result r = run(dir, "fit --quiet --threads=" + bad + example_inputs + " --output b.ply --report b.json");
+    CHECK(r.status == 2);
+    CHECK(r.err.find("--threads needs an integer from 1 to 4096, not '" + bad + "'") != std::string::npos);
+    CHECK_FALSE(std::filesystem::exists(dir.file("b.ply")));
+    const Json j = read_json(dir.file("b.json"));
+    CHECK(j["exit_status"] == 2);
+    CHECK(j["stage"] == "usage");
+  }
+  // As separate words too (CLI11 takes "-1" as a value, or refuses it: either way exit 2).
+  for (const std::string bad : {"0", "-1", "abc"}) {
+    INFO("--threads " << bad);
+    const Run_result r = run(dir, "smooth --quiet --threads " + bad + " --template p.ply --output b.ply");
+    CHECK(r.status == 2);
+    CHECK(r.err.find("--threads needs an integer from 1 to 4096, not '" + bad + "'") != std::string::npos);
+  }
+}
+
+TEST_CASE("cli ecosystem: a report named like an output is refused with a message naming that output",
+          "[cli][ecosystem]") {
+  Temp_dir dir;
+  // The report on the mesh output, and on the curve file beside it: exit 1 before any work, a
+  // message that says which output, not "input".
+  const Run_result mesh = run(dir, "fit --quiet" + example_inputs + " --output o.ply --report o.ply");
+  CHECK(mesh.status == 1);
+  CHECK(mesh.err.find("the report is the output mesh 'o.ply'") != std::string::npos);
+  CHECK(mesh.err.find("input") == std::string::npos);
+  const Run_result curves =
+      run(dir, "fit --quiet" + example_inputs + " --output o.ply --report o.ply.curves.polylines.txt");
+  CHECK(curves.status == 1);
+  CHECK(curves.err.find("the report is the curve file written beside the output 'o.ply.curves.polylines.txt'") !=
+        std::string::npos);
+  CHECK_FALSE(std::filesystem::exists(dir.file("o.ply")));
+  // The same file under another name, once it exists.
+  REQUIRE(run(dir, "fit --quiet" + example_inputs + " --output o.ply").status == 0);
+  const Run_result other = run(dir, "fit --quiet" + example_inputs + " --output o.ply --report ./o.ply");
+  CHECK(other.status == 1);
+  CHECK(other.err.find("the report is the output mesh") != std::string::npos);
+  // A report on an input is refused as before, naming the input.
+  const Run_result input = run(dir, "fit --quiet" + example_inputs + " --output q.ply --report " + q(data + "/pairs.txt"));
+  CHECK(input.status == 1);
+  CHECK(input.err.find("the output is the input file") != std::string::npos);
 }

@@ -74,7 +74,7 @@ TEST_CASE("displacement: the membrane solution on a path is the linear interpola
   }
 }
 
-TEST_CASE("displacement: a part with no held vertex keeps a zero displacement; bad input is refused", "[displacement]") {
+TEST_CASE("displacement: a part with no held vertex keeps a zero displacement, bad input is refused", "[displacement]") {
   // Two separate edges: 0 - 1 held at one end, 2 - 3 with nothing held.
   Vertex_adjacency a;
   a.neighbours = {1, 0, 3, 2};

@@ -300,7 +300,7 @@ TEST_CASE("fit: texture coordinates, colours and normals are carried to the adde
   }
 }
 
-TEST_CASE("fit: a Polyhedron keeps its vertex handles; a map keyed by them gets the added vertices' UVs",
+TEST_CASE("fit: a Polyhedron keeps its vertex handles, a map keyed by them gets the added vertices' UVs",
           "[fit][caller_data][generic]") {
   using vertex_descriptor = boost::graph_traits<Poly>::vertex_descriptor;
   Poly tm;

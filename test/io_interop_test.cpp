@@ -94,7 +94,7 @@ TEST_CASE("io interop: with curves_in_mesh the .ply's edge element carries int c
   }
 }
 
-TEST_CASE("io interop: an .obj meshfit writes reads in CGAL's read_polygon_mesh; l lines only on request", "[io][interop]") {
+TEST_CASE("io interop: an .obj meshfit writes reads in CGAL's read_polygon_mesh, l lines only on request", "[io][interop]") {
   Temp_dir dir;
   const meshfit::Mesh_data m = quadrants();
   const std::string path = dir.file("q.obj");
@@ -139,7 +139,7 @@ TEST_CASE("io interop: curve edges beside the output are chains that read back a
   CHECK(loops[0].front() == loops[0].back());
 }
 
-TEST_CASE("io interop: a PLY CGAL wrote lists every edge; only edges flagged curve are curve edges", "[io][interop]") {
+TEST_CASE("io interop: a PLY CGAL wrote lists every edge, only edges flagged curve are curve edges", "[io][interop]") {
   Temp_dir dir;
   Mesh sm;
   const meshfit::Mesh_data m = quadrants();
@@ -193,7 +193,7 @@ TEST_CASE("io interop: curves from OBJ l lines, and strict errors with file and 
   meshfit_test::require_invalid([&] { meshfit::read_curve_network(none); }, 0, "no curve edges");
 }
 
-TEST_CASE("io interop: pairs by network vertex index '@k', mixed with coordinates; strict errors", "[io][correspondence]") {
+TEST_CASE("io interop: pairs by network vertex index '@k', mixed with coordinates, strict errors", "[io][correspondence]") {
   Temp_dir dir;
   const meshfit::Curve_network network =
       meshfit::parse_curve_network("4 0 0 0 1 0 0 0 1 0 0 0 0\n2 0 0 0 0 0 1\n", "c.polylines.txt");
@@ -232,7 +232,7 @@ TEST_CASE("io interop: .vtp and .vtk hold regions and curve flags as cell data, 
   meshfit_test::require_invalid([&] { meshfit::read_mesh_data(dir.file("q.vtp")); }, 0, "output format only");
 }
 
-TEST_CASE("io interop: a PLY edge element without a curve flag is skipped whatever it holds; a bad flag is an error", "[io][interop]") {
+TEST_CASE("io interop: a PLY edge element without a curve flag is skipped whatever it holds, a bad flag is an error", "[io][interop]") {
   const std::string head = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
                            "element face 1\nproperty list uchar int vertex_indices\n";
   const std::string body = "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";

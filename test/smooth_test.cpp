@@ -339,7 +339,7 @@ std::vector<Mesh::Vertex_index> edge_path(const Mesh& tm, Mesh::Vertex_index a, 
 
 }  // namespace
 
-TEST_CASE("smooth: constrained vertices, curve vertices and the boundary do not move; curve edges stay edges",
+TEST_CASE("smooth: constrained vertices, curve vertices and the boundary do not move, curve edges stay edges",
           "[smooth][constraints]") {
   const Mesh clean = make(Shape::sphere);
   const Mesh input = noisy(Shape::sphere, clean);
@@ -525,7 +525,7 @@ TEST_CASE("smooth: the same result on Polyhedron_3", "[smooth][generic]") {
   CHECK(same == pa.size());
 }
 
-TEST_CASE("smooth: bad parameters are Invalid_input; a cancelled run leaves the mesh unchanged", "[smooth]") {
+TEST_CASE("smooth: bad parameters are Invalid_input, a cancelled run leaves the mesh unchanged", "[smooth]") {
   const Mesh input = make(Shape::sphere);
   Mesh tm = input;
   meshfit_test::require_invalid([&] { meshfit::laplacian_flow(tm, mp::step_size(0.0)); }, 0, "step_size");

@@ -2,7 +2,7 @@
 # The reliability table of issue 13: runs meshfit on hostile inputs (extreme coordinates, runaway
 # work, memory, special output files, failures that must still write a report, messages) and prints
 # one row per run: exit status (or signal), seconds, peak memory, whether the report was written,
-# the first line of the message and the verdict against DESIGN.md's contract.
+# the first line of the message and the verdict against doc/design.md's contract.
 #
 #   bench/reliability/run.sh [--meshfit PATH] [--work DIR] [--sweep] [--big] [--only REGEX]
 #
@@ -132,7 +132,7 @@ CHECK="grep -q 'memory' '$out/memory/dense70/fit-thesis-2G.stderr'"
 row "memory/dense70/estimate-named" "3" -- fit $(in_args "$cases/dense70") --fine-level thesis --max-memory 2G \
   --output "$out/dense70-2G.off" --quiet
 if [ "$big" = 1 ]; then
-  # Peak memory under ten times the curve file's size (DESIGN.md: no runaway memory), and the
+  # Peak memory under ten times the curve file's size (doc/design.md: no runaway memory), and the
   # wrong count found in the curve file (its line named), not elsewhere.
   within_tenfold() {  # ROW CASE
     echo "test \$(awk 'END { print \$2 }' '$out/memory/$1.time') -lt \$((10 * \$(stat -c %s '$cases/$2/curves.polylines.txt') / 1024))"

@@ -1,4 +1,4 @@
-// The meshfit command: subcommands and exit codes as fixed in DESIGN.md.
+// The meshfit command: subcommands and exit codes as fixed in doc/design.md.
 //   0 success; 1 invalid input; 2 usage error; 3 the algorithm could not complete.
 #include <meshfit/check.h>
 #include <meshfit/deform.h>
@@ -7,6 +7,7 @@
 #include <meshfit/io.h>
 #include <meshfit/partition.h>
 #include <meshfit/smooth.h>
+#include <meshfit/threads.h>
 #include <meshfit/version.h>
 
 #include "../write_file.h"
@@ -28,6 +29,7 @@
 #include <iomanip>
 #include <sstream>
 
+#include <cerrno>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
@@ -83,6 +85,8 @@ const Option_spec option_specs[] = {
     {"--merge-tolerance", "X", "curve points closer than X times the network's bounding-box diagonal are one network "
                                "vertex (default 1e-9)"},
     {"--quiet", nullptr, "no progress on stderr"},
+    {"--threads", "N", "use at most N threads (N >= 1; OpenMP and OpenBLAS); default: every core, or "
+                       "OMP_NUM_THREADS / OPENBLAS_NUM_THREADS when set"},
     {"--curves-in-mesh", nullptr, "curve edges inside the output (.ply edge element flagged curve, .obj l lines) "
                                   "instead of OUT.curves.polylines.txt"},
     {"--coarse-only", nullptr, "stop after the coarse level (RBF through the given pairs)"},
@@ -121,7 +125,9 @@ const std::vector<Command_spec>& command_specs() {
     a.insert(a.end(), b.begin(), b.end());
     return a;
   };
-  static const std::vector<const char*> common{"--report", "--merge-tolerance", "--quiet", "--curves-in-mesh"};
+  // (check and view compute little and on one thread: no --threads.)
+  static const std::vector<const char*> common{"--report", "--merge-tolerance", "--quiet", "--curves-in-mesh",
+                                               "--threads"};
   static const std::vector<Command_spec> specs{
       {"fit", "Runs the whole pipeline: deform, partition, smooth, verify.",
        {"--template", "--curves", "--correspondences", "--output"},
@@ -301,6 +307,20 @@ Parsed parse(int argc, char** argv) {
   return parsed;
 }
 
+/// --threads N: limits OpenMP's and OpenBLAS's threads (meshfit::set_number_of_threads); called by
+/// every command that computes, after the output paths are checked (so a bad value is reported).
+void apply_thread_limit(const Command_line& cl) {
+  const auto it = cl.values.find("--threads");
+  if (it == cl.values.end()) return;
+  const std::string& t = it->second;
+  char* end = nullptr;
+  errno = 0;
+  const long v = std::strtol(t.c_str(), &end, 10);
+  if (end == t.c_str() || *end != '\0' || errno != 0 || v < 1 || v > 4096)
+    throw Usage_error{"--threads needs an integer from 1 to 4096, not '" + t + "'"};
+  meshfit::set_number_of_threads(static_cast<int>(v));
+}
+
 double merge_tolerance(const Command_line& cl) {
   const auto it = cl.values.find("--merge-tolerance");
   if (it == cl.values.end()) return meshfit::default_merge_tolerance;
@@ -459,6 +479,17 @@ Json report_skeleton(const std::string& command, const std::string& failure, con
   return j;
 }
 
+/// Whether `a` and `b` name the same file: the same existing file, or the same path once made
+/// absolute and normal (as meshfit::check_output_path compares an output with an input).
+bool same_file(const std::string& a, const std::string& b) {
+  std::error_code e1, e2, e3;
+  if (std::filesystem::exists(a, e1) && std::filesystem::exists(b, e2) && std::filesystem::equivalent(a, b, e3))
+    return true;
+  std::error_code ea, eb;
+  const std::filesystem::path ca = std::filesystem::weakly_canonical(a, ea), cb = std::filesystem::weakly_canonical(b, eb);
+  return !ea && !eb && ca == cb;
+}
+
 /// Checks the output paths before any work: the mesh output's format, that it, its curve file and
 /// the report can be written (regular files in existing directories), and that none is an input or
 /// another output. Returns the report path ("" when none; "-" for stdout).
@@ -474,16 +505,24 @@ std::string check_outputs(const Command_line& cl, const std::vector<std::string>
   pending_report.outputs["curves"] = nullptr;
   std::vector<std::string> others = inputs;
   others.push_back(output);
+  std::vector<std::pair<std::string, std::string>> outputs{{"the output mesh", output}};
   if (!cl.curves_in_mesh && cl.command != "deform") {
     const std::string curves = meshfit::curve_edges_path(output);
     meshfit::check_output_path(curves, others);
     others.push_back(curves);
+    outputs.emplace_back("the curve file written beside the output", curves);
   }
   pending_report.outputs["regions"] = nullptr;
   std::string report_path;
   if (cl.values.count("--report")) {
     report_path = cl.values.at("--report");
     if (report_path != "-") {
+      // The report on an output: a message that names that output (check_output_path's speaks of
+      // an input).
+      for (const auto& [what, path] : outputs)
+        if (same_file(report_path, path))
+          throw meshfit::Invalid_input(meshfit::Input_location{report_path, 0, meshfit::Input_location::no_offset},
+                                       "the report is " + what + " '" + path + "'; give the report a name of its own");
       meshfit::check_output_path(report_path, others);
       for (const std::string& o : others)
         if (o != report_path) meshfit::check_output_path(o, {report_path});
@@ -763,6 +802,7 @@ int run_deform(const Command_line& cl) {
   const std::string& pairs_path = cl.values.at("--correspondences");
   const std::vector<std::string> inputs{template_path, curves_path, pairs_path};
   const std::string report_path = check_outputs(cl, inputs);
+  apply_thread_limit(cl);
 
   const Deform_options options = deform_options(cl);
   const meshfit::Rbf_kernel kernel = options.kernel;
@@ -850,6 +890,7 @@ int run_partition(const Command_line& cl) {
   const std::string& curves_path = cl.values.at("--curves");
   const std::vector<std::string> inputs{mesh_path, curves_path};
   const std::string report_path = check_outputs(cl, inputs);
+  apply_thread_limit(cl);
 
   Mesh tm;
   const auto t0 = std::chrono::steady_clock::now();
@@ -896,7 +937,8 @@ int run_partition(const Command_line& cl) {
                   {"walks_failed", r.walks_failed},
                   {"faces_crossed", r.faces_crossed},
                   {"edge_flips", r.edge_flips},
-                  {"vertices_moved", r.vertices_moved},
+                  {"vertices_moved_onto_segments", r.vertices_moved},
+                  {"vertices_moved", r.vertices_moved},  // deprecated (doc/report.md): the same figure
                   {"curve_edges", r.curve_edges},
                   {"regions", r.regions}};
   js["quality"] = json_quality(out);
@@ -960,6 +1002,7 @@ int run_smooth(const Command_line& cl) {
   std::vector<std::string> inputs{template_path};
   if (cl.values.count("--curves")) inputs.push_back(cl.values.at("--curves"));
   const std::string report_path = check_outputs(cl, inputs);
+  apply_thread_limit(cl);
   const Smooth_options so = smooth_options(cl);
   const long mc = so.mean_curvature_iterations, lap = so.laplacian_iterations;
   const double step = so.step;
@@ -1109,6 +1152,7 @@ int run_fit(const Command_line& cl) {
   const std::vector<std::string> inputs{cl.values.at("--template"), cl.values.at("--curves"),
                                         cl.values.at("--correspondences")};
   const std::string report_path = check_outputs(cl, inputs);
+  apply_thread_limit(cl);
   const Deform_options d = deform_options(cl);
   const Smooth_options so = smooth_options(cl);
   Fit_inputs in;

@@ -1,0 +1,32 @@
+#include <meshfit/exceptions.h>
+#include <meshfit/threads.h>
+
+#include <string>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+// OpenBLAS (the BLAS CMake links, BLA_VENDOR OpenBLAS; Debian's pthread build has its own pool,
+// which OpenMP's setting does not reach).
+extern "C" void openblas_set_num_threads(int);
+
+namespace meshfit {
+
+void set_number_of_threads(int n) {
+  if (n < 1) throw Invalid_input("the number of threads must be at least 1, not " + std::to_string(n));
+#ifdef _OPENMP
+  omp_set_num_threads(n);
+#endif
+  openblas_set_num_threads(n);
+}
+
+int number_of_threads() {
+#ifdef _OPENMP
+  return omp_get_max_threads();
+#else
+  return 1;
+#endif
+}
+
+}  // namespace meshfit
