@@ -1,4 +1,5 @@
 #include <meshfit/deform.h>
+#include <meshfit/internal/deform_impl.h>  // the approach steps, tested on their own
 #include <meshfit/io.h>
 
 #include <CGAL/AABB_face_graph_triangle_primitive.h>

@@ -1,4 +1,7 @@
 #include <meshfit/fit.h>
+#include <meshfit/internal/angle_flips.h>
+#include <meshfit/internal/chain_spacing.h>
+#include <meshfit/internal/fit_checks.h>
 #include <meshfit/io.h>
 
 #include <CGAL/Surface_mesh.h>

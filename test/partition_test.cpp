@@ -1,5 +1,7 @@
 #include <meshfit/deform.h>
 #include <meshfit/fit.h>
+#include <meshfit/internal/fit_checks.h>
+#include <meshfit/internal/subdivide.h>
 #include <meshfit/io.h>
 #include <meshfit/partition.h>
 #include <meshfit/surface_walk.h>

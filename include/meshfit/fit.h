@@ -10,9 +10,6 @@
 #include <meshfit/curve_network.h>
 #include <meshfit/deform.h>
 #include <meshfit/exceptions.h>
-#include <meshfit/flip.h>
-#include <meshfit/internal/angle_flips.h>
-#include <meshfit/internal/chain_spacing.h>
 #include <meshfit/internal/commit_result.h>
 #include <meshfit/io.h>
 #include <meshfit/internal/stage_support.h>
@@ -23,8 +20,6 @@
 #include <meshfit/smooth.h>
 
 #include <CGAL/Polygon_mesh_processing/compute_normal.h>
-#include <CGAL/Polygon_mesh_processing/connected_components.h>
-#include <CGAL/Polygon_mesh_processing/self_intersections.h>
 
 #include <array>
 #include <chrono>
@@ -113,53 +108,21 @@ struct Fit_report {
 
 namespace internal {
 
-/// Interior edges of `tm` whose two faces turn more than 90 degrees apart, and zero-area faces.
-template <typename TriangleMesh, typename VPM>
-std::pair<std::size_t, std::size_t> folded_and_degenerate(const TriangleMesh& tm, const VPM& vpm) {
-  auto corners = [&](auto h) {
-    return Triangle_points{point_of<TriangleMesh>(vpm, source(h, tm)), point_of<TriangleMesh>(vpm, target(h, tm)),
-                           point_of<TriangleMesh>(vpm, target(next(h, tm), tm))};
-  };
-  std::size_t folded = 0, degenerate = 0;
-  for (auto f : faces(tm)) {
-    const Triangle_points t = corners(halfedge(f, tm));
-    degenerate += CGAL::collinear(t[0], t[1], t[2]) ? 1 : 0;
-  }
-  for (auto e : edges(tm)) {
-    const auto h = halfedge(e, tm);
-    if (is_border(h, tm) || is_border(opposite(h, tm), tm)) continue;
-    folded += edge_folds(tm, h, [&](auto v) { return point_of<TriangleMesh>(vpm, v); }) ? 1 : 0;
-  }
-  return {folded, degenerate};
-}
+/// fit_template_to_curves's parameters, resolved from its named parameters.
+struct Fit_options {
+  Deform_options deform;  ///< stage 1's (and the progress callback)
+  std::size_t mean_curvature_iterations = 0, laplacian_iterations = 0;  ///< smoothing_phases
+  double step = Flow_settings().step;                                   ///< step_size
+  bool check_self_intersections = true;                                 ///< check_self_intersections
+};
 
-/// The number of regions `network` bounds on `tm` once every segment is a chain of the edges
-/// `curve`, when the topology of `tm` determines it (connected, genus 0, each border cycle either
-/// all curve edges or none; see Fit_verification::expected_regions); empty otherwise.
-template <typename TriangleMesh, typename ECM>
-std::optional<std::size_t> expected_regions(const TriangleMesh& tm, const Curve_network& network, const ECM& curve) {
-  if (!genus_zero_border_cycles(tm)) return {};
-  // A border cycle with no curve edge is a hole inside one region; one made of curve edges only
-  // bounds a face of the network that is not on the mesh. A cycle partly on curves is neither.
-  std::size_t curve_cycles = 0;
-  auto seen = get(CGAL::dynamic_halfedge_property_t<bool>(), tm);
-  for (auto h : halfedges(tm)) put(seen, h, false);
-  for (auto h : halfedges(tm)) {
-    if (!is_border(h, tm) || get(seen, h)) continue;
-    std::size_t edges = 0, on_curve = 0;
-    for (auto g : CGAL::halfedges_around_face(h, tm)) {
-      put(seen, g, true);
-      ++edges;
-      on_curve += get(curve, edge(g, tm)) ? 1 : 0;
-    }
-    if (on_curve != 0 && on_curve != edges) return {};
-    curve_cycles += on_curve == edges ? 1 : 0;
-  }
-  const std::size_t planar_faces =
-      network.number_of_segments() + 1 + network.number_of_components() - network.number_of_vertices();
-  if (curve_cycles > planar_faces) return {};
-  return planar_faces - curve_cycles;
-}
+/// Stages 1-3 and the verification on `work`, the template scaled to a unit-sized box, against
+/// `network` scaled by `unit` (compiled once, src/fit.cpp). Fills `report` (but for the
+/// template's counts and the total time) and `result`: the result, scaled back to the network's
+/// frame, with its curve edges and regions.
+/// \throws as fit_template_to_curves.
+void fit_work(Work_mesh& work, const Curve_network& network, const std::vector<Correspondence>& pairs,
+              const Fit_options& options, double unit, Fit_report& report, Mesh_data& result);
 
 /// Whether a named parameter was given.
 template <typename T>
@@ -389,23 +352,22 @@ Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& input_n
   using GT = boost::graph_traits<TriangleMesh>;
   const auto t0 = std::chrono::steady_clock::now();
 
-  // The caller's callback may return void (never cancels) or bool; the stages get one returning bool.
-  const Progress_callback progress = internal::progress_callback(get_parameter(np, internal_np::progress));
-  const Rbf_kernel kernel = choose_parameter(get_parameter(np, internal_np::rbf_kernel), Rbf_kernel::linear);
-  const Curve_density density =
-      choose_parameter(get_parameter(np, internal_np::curve_density), Curve_density::refine);
-  const Fine_level fine_level = choose_parameter(get_parameter(np, internal_np::fine_level), Fine_level::surface);
-  const std::size_t rounds = internal::flip_prevention_rounds(np);
-  const std::size_t memory_limit = choose_parameter(get_parameter(np, internal_np::memory_limit), std::size_t(0));
-  // Smoothing iterations as smooth_fitted_mesh counts them (and checks them, before any work).
-  const auto [mc_iterations, lap_iterations] = internal::smoothing_phases(np);
-  const double step = choose_parameter(get_parameter(np, internal_np::step_size), 1.0);
-  const bool check_self_intersections =
-      choose_parameter(get_parameter(np, internal_np::check_self_intersections), true);
+  // Every parameter, read (and checked) before any work: stage 1's (all but coarse_only: fit runs
+  // every stage; the progress callback, which may return void or bool, as one returning bool),
+  // smoothing's as smooth_fitted_mesh counts them, the verification's.
+  internal::Fit_options options;
+  options.deform = deform_options(np);
+  options.deform.coarse_only = false;
+  const auto phases = internal::smoothing_phases(np);
+  options.mean_curvature_iterations = phases.mean_curvature;
+  options.laplacian_iterations = phases.laplacian;
+  options.step = choose_parameter(get_parameter(np, internal_np::step_size), options.step);
+  options.check_self_intersections =
+      choose_parameter(get_parameter(np, internal_np::check_self_intersections), options.check_self_intersections);
   const auto vpm = internal::vertex_point_map_of(tm, np);
-  // CGAL's functions called on `tm` itself (the template's self-intersection test, geometric
-  // normals of added vertices) get the caller's geom_traits when given; the stages compute on
-  // meshfit's copy in meshfit's kernel.
+  // CGAL's functions called on `tm` itself (geometric normals of added vertices) get the caller's
+  // geom_traits when given; the stages and the verification compute on meshfit's copy in
+  // meshfit's kernel.
   const auto tm_np = [&] {
     const auto gt = get_parameter(np, CGAL::internal_np::geom_traits);
     if constexpr (internal::is_given_v<decltype(gt)>)
@@ -435,106 +397,10 @@ Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& input_n
     for (Point_3& p : data.points) p = internal::scaled(p, template_unit);
     build_triangle_mesh(data, work);
   }
-  const auto wvpm = get(CGAL::vertex_point, work);
 
-  auto t = std::chrono::steady_clock::now();
-  // The stages work on `work` itself (their public forms would copy it again).
-  report.deformation = internal::deform_template_in_place(
-      work, network, pairs,
-      parameters::rbf_kernel(kernel)
-          .curve_density(density)
-          .fine_level(fine_level)
-          .progress(progress)
-          .memory_limit(memory_limit)
-          .flip_prevention_rounds(rounds));
-  report.deform_seconds = internal::seconds_since(t);
-  if (report.deformation.orientation_reversed)
-    throw Algorithm_failure("deform", orientation_reversal_message(report.deformation.coarse_affine_determinant));
-  if (!report.deformation.dropped_network_vertices.empty())
-    throw Algorithm_failure("deform", std::to_string(report.deformation.dropped_network_vertices.size()) +
-                                          " network vertices have no mesh vertex of their own, so their segments "
-                                          "cannot be made mesh edges");
-
-  t = std::chrono::steady_clock::now();
-  auto curve = get(CGAL::dynamic_edge_property_t<bool>(), work);
-  auto region = get(CGAL::dynamic_face_property_t<std::size_t>(), work);
-  report.partition = internal::partition_mesh_in_place(
-      work, network, parameters::progress(progress).edge_is_constrained_map(curve).face_patch_map(region));
-  report.partition_seconds = internal::seconds_since(t);
-  report.mesh_vertex_of_network_vertex = report.partition.mesh_vertex_of_network_vertex;
-
-  t = std::chrono::steady_clock::now();
-  // Network vertices stay where they are even when a segment of theirs is not a chain of edges.
-  auto pinned = get(CGAL::dynamic_vertex_property_t<bool>(), work);
-  {
-    std::vector<bool> is_network(num_vertices(work), false);
-    for (std::size_t k : report.mesh_vertex_of_network_vertex) is_network[k] = true;
-    std::size_t i = 0;
-    for (auto w : vertices(work)) put(pinned, w, bool(is_network[i++]));
-  }
-  if (mc_iterations + lap_iterations > 0)
-    report.smoothing = smooth_fitted_mesh(work, parameters::mean_curvature_iterations(mc_iterations)
-                                                    .laplacian_iterations(lap_iterations)
-                                                    .step_size(step)
-                                                    .progress(progress)
-                                                    .edge_is_constrained_map(curve)
-                                                    .vertex_is_constrained_map(pinned));
-  // Curve vertices bunched along a segment make needles that smoothing leaves: they are spaced
-  // out along their segments first.
-  report.chain_vertex_moves = internal::space_chain_vertices(work, wvpm, curve, network,
-                                                             report.mesh_vertex_of_network_vertex, network.tolerance());
-  // Needles that no vertex motion can mend (a free vertex between two close curve vertices, or
-  // two free vertices pressed together) go by flipping edges where the surface is nearly flat.
-  report.angle_flips = internal::flip_for_angles(work, wvpm, curve, 20 * CGAL_PI / 180);
-  report.smooth_seconds = internal::seconds_since(t);
-
-  // Verification.
-  t = std::chrono::steady_clock::now();
-  internal::report_progress(progress, "fit", "verifying the result", 0, 1);
-  Fit_verification& v = report.verification;
-  std::vector<internal::Work_mesh::Vertex_index> vertex_of;
-  for (auto w : vertices(work)) vertex_of.push_back(w);
-  v.network_vertices = network.number_of_vertices();
-  for (std::size_t k = 0; k < network.number_of_vertices(); ++k)
-    if (get(wvpm, vertex_of[report.mesh_vertex_of_network_vertex[k]]) != network.point(k)) ++v.network_vertices_missing;
-  v.segments = network.number_of_segments();
-  // Vertices moved onto a segment lie on it up to rounding: within the network's merge tolerance.
-  const double tolerance = network.tolerance();
-  for (const auto& s : network.segments()) {
-    const auto a = vertex_of[report.mesh_vertex_of_network_vertex[s[0]]], b = vertex_of[report.mesh_vertex_of_network_vertex[s[1]]];
-    if (segment_edge_chain(work, wvpm, curve, a, b, tolerance).size() < 2) ++v.segments_not_chains;
-  }
-  v.flips_remaining = report.deformation.remaining_flips;
-  v.regions = report.partition.regions;
-  if (const auto expected = internal::expected_regions(work, network, curve)) {
-    v.expected_regions_known = true;
-    v.expected_regions = *expected;
-  }
-  std::tie(v.folded_edges, v.degenerate_faces) = internal::folded_and_degenerate(work, wvpm);
-  v.template_folded_edges = internal::folded_and_degenerate(tm, vpm).first;
-  for (auto w : vertices(work)) {
-    const auto& p = get(wvpm, w);
-    v.non_finite_coordinates += !(std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z()));
-  }
-  if (check_self_intersections && v.non_finite_coordinates == 0) {
-    v.self_intersection_checked = true;
-    v.self_intersects = CGAL::Polygon_mesh_processing::does_self_intersect(work);
-    v.template_self_intersects =
-        v.self_intersects && CGAL::Polygon_mesh_processing::does_self_intersect(tm, tm_np);
-  }
-  report.verify_seconds = internal::seconds_since(t);
-  report.vertices = num_vertices(work);
-  report.faces = num_faces(work);
-
-  // Commit: the result replaces the template in place, vertex i staying vertex i
-  // (internal/commit_result.h).
-  Mesh_data result = to_mesh_data(work, CGAL::parameters::edge_is_constrained_map(curve).face_patch_map(region));
-  report.minimum_angle_deg = minimum_angle_degrees(result);
-  for (Point_3& p : result.points) p = internal::scaled(p, 1 / unit);
-  report.deformation.largest_projection_distance /= unit;
-  report.smoothing.mean_displacement /= unit;
-  report.smoothing.max_displacement /= unit;
-  report.smoothing.last_step_max_displacement /= unit;
+  // Stages 1-3 and the verification, compiled once (src/fit.cpp); `result` is in the network's frame.
+  Mesh_data result;
+  internal::fit_work(work, network, pairs, options, unit, report, result);
 
   // The added vertices' attributes, computed before `tm` changes (a solve that throws leaves it
   // as it was); see internal/vertex_attributes.h.

@@ -137,6 +137,10 @@ struct Smoothing_arrays {
   std::vector<double> orientation_points;
 };
 
+/// smooth_fitted_mesh's iterations in all when `number_of_iterations` is not given.
+constexpr std::size_t default_smoothing_iterations = 100;
+
+/// A flow's settings, with their defaults (flow_settings reads the named parameters into them).
 struct Flow_settings {
   Flow_kind kind = Flow_kind::laplacian;
   std::size_t iterations = 0;
@@ -183,7 +187,7 @@ template <typename NamedParameters>
 Smoothing_phases smoothing_phases(const NamedParameters& np) {
   using CGAL::parameters::choose_parameter;
   using CGAL::parameters::get_parameter;
-  const std::size_t total = iterations_parameter(np, 100);
+  const std::size_t total = iterations_parameter(np, default_smoothing_iterations);
   return {non_negative_count(choose_parameter(get_parameter(np, meshfit::internal_np::mean_curvature_iterations), total / 5),
                              "smooth", "mean_curvature_iterations"),
           non_negative_count(
@@ -198,12 +202,12 @@ Flow_settings flow_settings(const NamedParameters& np, Flow_kind kind, std::size
   Flow_settings s;
   s.kind = kind;
   s.iterations = iterations_parameter(np, default_iterations);
-  s.step = choose_parameter(get_parameter(np, meshfit::internal_np::step_size), 1.0);
+  s.step = choose_parameter(get_parameter(np, meshfit::internal_np::step_size), s.step);
   if (!(s.step > 0 && s.step <= 1))
     throw Invalid_input("smooth: step_size (lambda) must be in (0, 1], not " + std::to_string(s.step));
-  s.weights = choose_parameter(get_parameter(np, meshfit::internal_np::laplacian_weights), Laplacian_weights::uniform);
-  s.variant = choose_parameter(get_parameter(np, meshfit::internal_np::laplacian_variant), Laplacian_variant::none);
-  s.alpha = choose_parameter(get_parameter(np, meshfit::internal_np::laplacian_alpha), 0.5);
+  s.weights = choose_parameter(get_parameter(np, meshfit::internal_np::laplacian_weights), s.weights);
+  s.variant = choose_parameter(get_parameter(np, meshfit::internal_np::laplacian_variant), s.variant);
+  s.alpha = choose_parameter(get_parameter(np, meshfit::internal_np::laplacian_alpha), s.alpha);
   if (!(s.alpha >= 0 && s.alpha <= 1))
     throw Invalid_input("smooth: laplacian_alpha must be in [0, 1], not " + internal::format_number(s.alpha));
   auto progress = get_parameter(np, meshfit::internal_np::progress);

@@ -715,24 +715,17 @@ Json json_quality(const meshfit::Mesh_data& out) {
   return j;
 }
 
-struct Deform_options {
-  meshfit::Rbf_kernel kernel = meshfit::Rbf_kernel::linear;
-  meshfit::Curve_density density = meshfit::Curve_density::refine;
-  meshfit::Fine_level fine_level = meshfit::Fine_level::surface;
-  int rounds = 10;
-  std::size_t memory_limit = 0;  ///< bytes; 0: meshfit::default_memory_limit()
-};
-
-Deform_options deform_options(const Command_line& cl) {
-  Deform_options o;
+// Stage 1's options: the library's defaults (meshfit::Deform_options), changed by the command line.
+meshfit::Deform_options deform_options(const Command_line& cl) {
+  meshfit::Deform_options o;
   if (cl.values.count("--kernel")) {
     const std::string& k = cl.values.at("--kernel");
-    if (k == "cubic") o.kernel = meshfit::Rbf_kernel::cubic;
+    if (k == "cubic") o.rbf_kernel = meshfit::Rbf_kernel::cubic;
     else if (k != "linear") throw Usage_error{"--kernel must be linear or cubic, not '" + k + "'"};
   }
   if (cl.values.count("--curve-density")) {
     const std::string& d = cl.values.at("--curve-density");
-    if (d == "drop") o.density = meshfit::Curve_density::drop;
+    if (d == "drop") o.curve_density = meshfit::Curve_density::drop;
     else if (d != "refine") throw Usage_error{"--curve-density must be refine or drop, not '" + d + "'"};
   }
   if (cl.values.count("--fine-level")) {
@@ -746,7 +739,7 @@ Deform_options deform_options(const Command_line& cl) {
     const long v = std::strtol(r.c_str(), &end, 10);
     if (end == r.c_str() || *end != '\0' || v < 1 || v > 1000)
       throw Usage_error{"--max-rounds needs an integer from 1 to 1000, not '" + r + "'"};
-    o.rounds = static_cast<int>(v);
+    o.flip_prevention_rounds = static_cast<std::size_t>(v);
   }
   if (cl.values.count("--max-memory")) {
     // A number of bytes, or with a suffix K, M, G or T (powers of 1024).
@@ -804,10 +797,9 @@ int run_deform(const Command_line& cl) {
   const std::string report_path = check_outputs(cl, inputs);
   apply_thread_limit(cl);
 
-  const Deform_options options = deform_options(cl);
-  const meshfit::Rbf_kernel kernel = options.kernel;
-  const meshfit::Curve_density density = options.density;
-  const int rounds = options.rounds;
+  meshfit::Deform_options options = deform_options(cl);
+  options.coarse_only = cl.coarse_only;
+  options.progress = progress_printer();
 
   Fit_inputs in;
   read_fit_inputs(cl, in);
@@ -817,19 +809,10 @@ int run_deform(const Command_line& cl) {
   const double read_s = in.read_seconds;
 
   const bool quiet = cl.quiet;
-  const meshfit::Progress_callback progress = progress_printer();
   meshfit::Deformation_report r;
   std::string failure, stage = "deform";  // a failure, reported with the figures gathered so far
   try {
-    r = meshfit::deform_template(
-        tm, network, pairs,
-        meshfit::parameters::rbf_kernel(kernel)
-            .curve_density(density)
-            .fine_level(options.fine_level)
-            .coarse_only(cl.coarse_only)
-            .progress(progress)
-            .memory_limit(options.memory_limit)
-            .flip_prevention_rounds(rounds));
+    r = meshfit::deform_template(tm, network, pairs, meshfit::deform_parameters(options));
   } catch (const meshfit::Numerical_error& e) {
     failure = e.what();
   } catch (const meshfit::Algorithm_failure& e) {
@@ -838,7 +821,7 @@ int run_deform(const Command_line& cl) {
   }
   if (failure.empty() && r.orientation_reversed)
     failure = meshfit::orientation_reversal_message(r.coarse_affine_determinant);
-  else if (failure.empty() && density == meshfit::Curve_density::refine && !r.dropped_network_vertices.empty())
+  else if (failure.empty() && options.curve_density == meshfit::Curve_density::refine && !r.dropped_network_vertices.empty())
     failure = std::to_string(r.dropped_network_vertices.size()) +
               " network vertices could not be given a mesh vertex of their own (their nearest "
               "surface points are taken by nearer ones); --curve-density drop accepts that";
@@ -978,15 +961,18 @@ long count_option(const Command_line& cl, const char* name, long fallback, long 
 }
 
 struct Smooth_options {
-  long mean_curvature_iterations = 20, laplacian_iterations = 80;
-  double step = 1;
+  long mean_curvature_iterations = 0, laplacian_iterations = 0;
+  double step = meshfit::internal::Flow_settings().step;
 };
 
 Smooth_options smooth_options(const Command_line& cl) {
   Smooth_options o;
-  const long total = count_option(cl, "--iterations", 100, 100000);
-  o.mean_curvature_iterations = count_option(cl, "--mc-iterations", total / 5, 100000);
-  o.laplacian_iterations = count_option(cl, "--laplacian-iterations", total - total / 5, 100000);
+  const long total =
+      count_option(cl, "--iterations", static_cast<long>(meshfit::internal::default_smoothing_iterations), 100000);
+  // The library's split of the total between the phases; a phase's own count replaces its share.
+  const auto phases = meshfit::internal::smoothing_phases(CGAL::parameters::number_of_iterations(total));
+  o.mean_curvature_iterations = count_option(cl, "--mc-iterations", static_cast<long>(phases.mean_curvature), 100000);
+  o.laplacian_iterations = count_option(cl, "--laplacian-iterations", static_cast<long>(phases.laplacian), 100000);
   if (cl.values.count("--step")) {
     const std::string& x = cl.values.at("--step");
     char* end = nullptr;
@@ -1153,7 +1139,8 @@ int run_fit(const Command_line& cl) {
                                         cl.values.at("--correspondences")};
   const std::string report_path = check_outputs(cl, inputs);
   apply_thread_limit(cl);
-  const Deform_options d = deform_options(cl);
+  meshfit::Deform_options d = deform_options(cl);
+  d.progress = progress_printer();
   const Smooth_options so = smooth_options(cl);
   Fit_inputs in;
   read_fit_inputs(cl, in);
@@ -1182,16 +1169,11 @@ int run_fit(const Command_line& cl) {
   std::string failure, stage = "fit";  // a failure, reported with the figures gathered so far
   try {
     const auto np =
-        meshfit::parameters::rbf_kernel(d.kernel)
-            .fine_level(d.fine_level)
-            .curve_density(d.density)
+        meshfit::deform_parameters(d)
             .mean_curvature_iterations(so.mean_curvature_iterations)
             .laplacian_iterations(so.laplacian_iterations)
             .step_size(so.step)
             .check_self_intersections(!cl.no_self_intersection_check)
-            .progress(progress_printer())
-            .memory_limit(d.memory_limit)
-            .flip_prevention_rounds(d.rounds)
             .edge_is_constrained_map(curve)
             .face_patch_map(region);
     // Without attributes, no maps: fit would extend them all the same.

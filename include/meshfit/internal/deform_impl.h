@@ -1,15 +1,17 @@
-// meshfit internal: the implementation of deform.h's stages (the state of a deformation, the
-// surface fine level's steps, the checks that refuse inputs before work). Included by deform.h.
+// meshfit internal: the helpers of deform.h's levels (the state of a deformation, the surface
+// fine level's steps, the checks that refuse inputs before work). Included by deform_levels.h,
+// which the library compiles once (src/deform.cpp), and by tests of these steps.
 #ifndef MESHFIT_INTERNAL_DEFORM_IMPL_H
 #define MESHFIT_INTERNAL_DEFORM_IMPL_H
 
-// Needs meshfit::Deformation_report and the messages of deform.h, which includes this file after them.
+#include <meshfit/deform.h>
 #include <meshfit/correspondence.h>
 #include <meshfit/curve_network.h>
 #include <meshfit/displacement.h>
 #include <meshfit/exceptions.h>
 #include <meshfit/flip.h>
 #include <meshfit/internal/angle_flips.h>
+#include <meshfit/internal/border_cycles.h>
 #include <meshfit/internal/clear_mesh.h>
 #include <meshfit/internal/format_number.h>
 #include <meshfit/internal/resample_network.h>
@@ -226,25 +228,6 @@ struct Deform_state {
     return Vector_3(n.x(), n.y(), n.z());
   }
 };
-
-/// Connected, and of genus 0 (a sphere, a disc, a sphere with holes): χ + (boundary cycles) = 2.
-/// Then the number of border cycles, else nothing.
-template <typename TriangleMesh>
-std::optional<std::size_t> genus_zero_border_cycles(const TriangleMesh& tm) {
-  auto component = get(CGAL::dynamic_face_property_t<std::size_t>(), tm);
-  if (num_faces(tm) == 0 || CGAL::Polygon_mesh_processing::connected_components(tm, component) != 1) return {};
-  std::size_t cycles = 0;
-  auto seen = get(CGAL::dynamic_halfedge_property_t<bool>(), tm);
-  for (auto h : halfedges(tm)) put(seen, h, false);
-  for (auto h : halfedges(tm)) {
-    if (!is_border(h, tm) || get(seen, h)) continue;
-    ++cycles;
-    for (auto g : CGAL::halfedges_around_face(h, tm)) put(seen, g, true);
-  }
-  const long chi = static_cast<long>(num_vertices(tm)) - static_cast<long>(num_edges(tm)) + static_cast<long>(num_faces(tm));
-  if (chi + static_cast<long>(cycles) != 2) return {};
-  return cycles;
-}
 
 /// The diagonal of the bounding box of the mesh's points that lie on a face (a vertex on no face,
 /// unused, sets no scale: see checked_template_box).
@@ -662,23 +645,19 @@ Approach_result approach_curves_icp(TriangleMesh& tm, const VPM& vpm, const Curv
 }
 
 /// deform_fine_on_surface on the network as it is (its long segments not cut).
-template <typename TriangleMesh, typename NamedParameters>
+template <typename TriangleMesh>
 Deformation_report fine_on_surface(TriangleMesh& tm, const Curve_network& network, const std::vector<Correspondence>& pairs,
-                                   const NamedParameters& np) {
-  using CGAL::parameters::choose_parameter;
-  using CGAL::parameters::get_parameter;
+                                   const Deform_options& options) {
   using GT = boost::graph_traits<TriangleMesh>;
   const auto t0 = std::chrono::steady_clock::now();
-  const std::size_t max_rounds = internal::flip_prevention_rounds(np);
-  const auto progress = get_parameter(np, internal_np::progress);
+  const std::size_t max_rounds = options.flip_prevention_rounds;
+  const Progress_callback& progress = options.progress;
   // Stage 2's progress during the embedding is reported as this stage's.
-  Progress_callback forward = [](const Progress_step&) { return true; };
-  if constexpr (!std::is_same_v<decltype(progress), const CGAL::internal_np::Param_not_found>)
-    forward = [&progress](const Progress_step& step) {
-      return internal::call_progress(progress, Progress_step{"deform", "fine: embedding the curves: " + step.step, 1, 4});
-    };
+  const Progress_callback forward = [&progress](const Progress_step& step) {
+    return progress(Progress_step{"deform", "fine: embedding the curves: " + step.step, 1, 4});
+  };
 
-  auto vpm = internal::vertex_point_map_of(tm, np);
+  auto vpm = get_property_map(CGAL::vertex_point, tm);
   internal::Deform_state<TriangleMesh, decltype(vpm)> s(tm, vpm);
   internal::check_pairs(pairs, s.vertex.size(), num_faces(tm), network);
   // A network that is not planar cannot be drawn on a genus-0 template without crossings.

@@ -78,17 +78,6 @@ std::size_t non_negative_count(const T& n, const char* stage, const char* what) 
   return static_cast<std::size_t>(n);
 }
 
-/// The `flip_prevention_rounds` named parameter (default 10), read by deform's fine levels and by fit.
-/// \throws Invalid_input when it is negative.
-template <typename NamedParameters>
-std::size_t flip_prevention_rounds(const NamedParameters& np) {
-  using CGAL::parameters::choose_parameter;
-  using CGAL::parameters::get_parameter;
-  const auto rounds = choose_parameter(get_parameter(np, internal_np::flip_prevention_rounds), 10);
-  static_assert(std::is_integral_v<decltype(rounds)>, "meshfit: flip_prevention_rounds must be an integer");
-  return non_negative_count(rounds, "deform", "flip_prevention_rounds");
-}
-
 /// Whether a point type has double Cartesian coordinates (x(), y(), z() of type double): every
 /// Cartesian kernel over double (Epick, Simple_cartesian<double>, Cartesian<double>), not Epeck.
 template <typename Point>

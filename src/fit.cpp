@@ -1,0 +1,129 @@
+// The part of fit_template_to_curves that runs on meshfit's own mesh, compiled once: stages 1-3
+// and the verification.
+#include <meshfit/fit.h>
+#include <meshfit/check.h>
+#include <meshfit/internal/angle_flips.h>
+#include <meshfit/internal/chain_spacing.h>
+#include <meshfit/internal/fit_checks.h>
+#include <meshfit/internal/unit_scale.h>
+#include <meshfit/partition.h>
+#include <meshfit/smooth.h>
+#include <meshfit/surface_walk.h>
+
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
+
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <string>
+#include <tuple>
+#include <vector>
+
+namespace meshfit {
+namespace internal {
+
+void fit_work(Work_mesh& work, const Curve_network& network, const std::vector<Correspondence>& pairs,
+              const Fit_options& options, double unit, Fit_report& report, Mesh_data& result) {
+  const Progress_callback& progress = options.deform.progress;
+  const std::size_t mc_iterations = options.mean_curvature_iterations, lap_iterations = options.laplacian_iterations;
+  const double step = options.step;
+  const bool check_self_intersections = options.check_self_intersections;
+  const auto wvpm = get(CGAL::vertex_point, work);
+  // What the template had before the stages: the verification counts only what they made (the
+  // template scaled by a power of two, which no predicate sees).
+  const std::size_t template_folded_edges = folded_and_degenerate(work, wvpm).first;
+  const std::unique_ptr<const Work_mesh> template_copy(check_self_intersections ? new Work_mesh(work) : nullptr);
+
+  auto t = std::chrono::steady_clock::now();
+  // The stages work on `work` itself (their public forms would copy it again).
+  report.deformation = deform_template_in_place(work, network, pairs, options.deform);
+  report.deform_seconds = seconds_since(t);
+  if (report.deformation.orientation_reversed)
+    throw Algorithm_failure("deform", orientation_reversal_message(report.deformation.coarse_affine_determinant));
+  if (!report.deformation.dropped_network_vertices.empty())
+    throw Algorithm_failure("deform", std::to_string(report.deformation.dropped_network_vertices.size()) +
+                                          " network vertices have no mesh vertex of their own, so their segments "
+                                          "cannot be made mesh edges");
+
+  t = std::chrono::steady_clock::now();
+  auto curve = get(CGAL::dynamic_edge_property_t<bool>(), work);
+  auto region = get(CGAL::dynamic_face_property_t<std::size_t>(), work);
+  report.partition = partition_mesh_in_place(
+      work, network, parameters::progress(progress).edge_is_constrained_map(curve).face_patch_map(region));
+  report.partition_seconds = seconds_since(t);
+  report.mesh_vertex_of_network_vertex = report.partition.mesh_vertex_of_network_vertex;
+
+  t = std::chrono::steady_clock::now();
+  // Network vertices stay where they are even when a segment of theirs is not a chain of edges.
+  auto pinned = get(CGAL::dynamic_vertex_property_t<bool>(), work);
+  {
+    std::vector<bool> is_network(num_vertices(work), false);
+    for (std::size_t k : report.mesh_vertex_of_network_vertex) is_network[k] = true;
+    std::size_t i = 0;
+    for (auto w : vertices(work)) put(pinned, w, bool(is_network[i++]));
+  }
+  if (mc_iterations + lap_iterations > 0)
+    report.smoothing = smooth_fitted_mesh(work, parameters::mean_curvature_iterations(mc_iterations)
+                                                    .laplacian_iterations(lap_iterations)
+                                                    .step_size(step)
+                                                    .progress(progress)
+                                                    .edge_is_constrained_map(curve)
+                                                    .vertex_is_constrained_map(pinned));
+  // Curve vertices bunched along a segment make needles that smoothing leaves: they are spaced
+  // out along their segments first.
+  report.chain_vertex_moves =
+      space_chain_vertices(work, wvpm, curve, network, report.mesh_vertex_of_network_vertex, network.tolerance());
+  // Needles that no vertex motion can mend (a free vertex between two close curve vertices, or
+  // two free vertices pressed together) go by flipping edges where the surface is nearly flat.
+  report.angle_flips = flip_for_angles(work, wvpm, curve, 20 * CGAL_PI / 180);
+  report.smooth_seconds = seconds_since(t);
+
+  // Verification.
+  t = std::chrono::steady_clock::now();
+  report_progress(progress, "fit", "verifying the result", 0, 1);
+  Fit_verification& v = report.verification;
+  std::vector<Work_mesh::Vertex_index> vertex_of;
+  for (auto w : vertices(work)) vertex_of.push_back(w);
+  v.network_vertices = network.number_of_vertices();
+  for (std::size_t k = 0; k < network.number_of_vertices(); ++k)
+    if (get(wvpm, vertex_of[report.mesh_vertex_of_network_vertex[k]]) != network.point(k)) ++v.network_vertices_missing;
+  v.segments = network.number_of_segments();
+  // Vertices moved onto a segment lie on it up to rounding: within the network's merge tolerance.
+  const double tolerance = network.tolerance();
+  for (const auto& s : network.segments()) {
+    const auto a = vertex_of[report.mesh_vertex_of_network_vertex[s[0]]], b = vertex_of[report.mesh_vertex_of_network_vertex[s[1]]];
+    if (segment_edge_chain(work, wvpm, curve, a, b, tolerance).size() < 2) ++v.segments_not_chains;
+  }
+  v.flips_remaining = report.deformation.remaining_flips;
+  v.regions = report.partition.regions;
+  if (const auto expected = expected_regions(work, network, curve)) {
+    v.expected_regions_known = true;
+    v.expected_regions = *expected;
+  }
+  std::tie(v.folded_edges, v.degenerate_faces) = folded_and_degenerate(work, wvpm);
+  v.template_folded_edges = template_folded_edges;
+  for (auto w : vertices(work)) {
+    const auto& p = get(wvpm, w);
+    v.non_finite_coordinates += !(std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z()));
+  }
+  if (check_self_intersections && v.non_finite_coordinates == 0) {
+    v.self_intersection_checked = true;
+    v.self_intersects = CGAL::Polygon_mesh_processing::does_self_intersect(work);
+    v.template_self_intersects = v.self_intersects && CGAL::Polygon_mesh_processing::does_self_intersect(*template_copy);
+  }
+  report.verify_seconds = seconds_since(t);
+  report.vertices = num_vertices(work);
+  report.faces = num_faces(work);
+
+  // The result, in the network's frame: the caller writes it into its mesh.
+  result = to_mesh_data(work, CGAL::parameters::edge_is_constrained_map(curve).face_patch_map(region));
+  report.minimum_angle_deg = minimum_angle_degrees(result);
+  for (Point_3& p : result.points) p = scaled(p, 1 / unit);
+  report.deformation.largest_projection_distance /= unit;
+  report.smoothing.mean_displacement /= unit;
+  report.smoothing.max_displacement /= unit;
+  report.smoothing.last_step_max_displacement /= unit;
+}
+
+}  // namespace internal
+}  // namespace meshfit
