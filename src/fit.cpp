@@ -48,8 +48,7 @@ void fit_work(Work_mesh& work, const Curve_network& network, const std::vector<C
   t = std::chrono::steady_clock::now();
   auto curve = get(CGAL::dynamic_edge_property_t<bool>(), work);
   auto region = get(CGAL::dynamic_face_property_t<std::size_t>(), work);
-  report.partition = partition_mesh_in_place(
-      work, network, parameters::progress(progress).edge_is_constrained_map(curve).face_patch_map(region));
+  report.partition = partition_work(work, network, progress, curve, nullptr, &region);
   report.partition_seconds = seconds_since(t);
   report.mesh_vertex_of_network_vertex = report.partition.mesh_vertex_of_network_vertex;
 

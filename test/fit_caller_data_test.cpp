@@ -4,6 +4,7 @@
 // recorded before the call, the result's connectivity read back from the mesh), not fit's
 // verification.
 #include <meshfit/fit.h>
+#include <meshfit/internal/partition_impl.h>
 #include <meshfit/io.h>
 
 #include <CGAL/Polyhedron_3.h>

@@ -4,6 +4,7 @@
 #include <meshfit/internal/subdivide.h>
 #include <meshfit/io.h>
 #include <meshfit/partition.h>
+#include <meshfit/internal/partition_impl.h>
 #include <meshfit/surface_walk.h>
 
 #include <CGAL/Polyhedron_3.h>

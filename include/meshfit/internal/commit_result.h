@@ -24,6 +24,7 @@
 #include <meshfit/kernel.h>
 #include <meshfit/parameters.h>
 
+#include <CGAL/Dynamic_property_map.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/boost/graph/Euler_operations.h>
 #include <CGAL/boost/graph/helpers.h>
@@ -43,6 +44,10 @@ namespace internal {
 /// the caller's mesh may have any Cartesian kernel over double (its points are read and written
 /// as doubles, exactly).
 using Work_mesh = CGAL::Surface_mesh<Point_3>;
+/// Flags on its edges and vertices, labels on its faces (dynamic property maps).
+using Work_edge_flags = boost::property_map<Work_mesh, CGAL::dynamic_edge_property_t<bool>>::type;
+using Work_vertex_flags = boost::property_map<Work_mesh, CGAL::dynamic_vertex_property_t<bool>>::type;
+using Work_face_labels = boost::property_map<Work_mesh, CGAL::dynamic_face_property_t<std::size_t>>::type;
 
 template <typename Mesh>
 struct Is_surface_mesh : std::false_type {};

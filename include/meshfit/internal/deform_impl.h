@@ -22,6 +22,7 @@
 #include <meshfit/memory_limit.h>
 #include <meshfit/parameters.h>
 #include <meshfit/partition.h>
+#include <meshfit/surface_walk.h>
 #include <meshfit/rbf.h>
 #include <meshfit/untangle.h>
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
@@ -958,9 +959,7 @@ Deformation_report fine_on_surface(TriangleMesh& tm, const Curve_network& networ
     if (projected.number_of_vertices() != static_cast<std::size_t>(std::count(used.begin(), used.end(), true)))
       throw Algorithm_failure("deform", too_dense);
     try {
-      report.embedding = partition_mesh_in_place(
-          tm, projected,
-          parameters::progress(forward).edge_is_constrained_map(curve).vertex_is_constrained_map(fixed));
+      report.embedding = partition_work(tm, projected, forward, curve, &fixed, nullptr);
     } catch (const Invalid_input& e) {
       // Stage 2 finds network vertices by position: two of them placed nearer to each other than
       // to any other mesh vertex cannot be told apart.
