@@ -5,6 +5,39 @@
 // connectivity is turned once into compressed rows (vertex → neighbours with their edge, vertex
 // → incident faces, face → faces across its edges) so that a step reads memory linearly; that is
 // what makes a step cost tens of nanoseconds per vertex.
+//
+// Guards (so that no value is ever non-finite, and no face flips):
+//   - cotangents (eq. 4.8) are computed as cos/sin with the sine bounded below by sin(1°) times
+//     the product of the two edge lengths, i.e. |cot| ≤ cot(1°) ≈ 57.3: a needle or a zero-area
+//     face has bounded weights ("clamped" in the report);
+//   - the mean-curvature step of a vertex is λ·h̄²·H (h̄ the mean edge length of the mesh at the
+//     call, so λ is dimensionless), but never more than the step 4A/Σ|w| that moves the vertex
+//     to its cotangent-weighted neighbour average: the explicit scheme stays stable on small
+//     faces and a vertex whose faces have no area (A = 0) or whose weights all vanish stays put;
+//   - inverse-distance weights (eq. 4.4) use max(|p − q|, 1e-6·h̄);
+//   - after each step, every face whose normal would turn by more than 90° (floating-point
+//     filter, exact orientation test in the plane of the face when the filter is unsure)
+//     halves the step of its free corners, up to 4 times, after which those corners do not
+//     move in that iteration. Faces of zero area before the step have no normal and are not
+//     judged.
+//
+// The reference surfaces of the modified flows (eq. 4.9 and 4.11 project the step onto "the face
+// closest to p^k" and put p^{k+1} on that face): a vertex p^k lies on all of its incident faces
+// of the reference surface, so "the closest face" is decided by where the step goes. meshfit
+// walks from a face of the reference surface holding the vertex towards p^k + step: on the
+// current face, it takes the barycentric coordinates of the point projected onto the face's
+// plane; when they are all non-negative the projection is p^{k+1} (the intersection of n with
+// the face, as in figs. 4.11 and 4.12); otherwise it crosses the edge of the most negative
+// coordinate, unless that edge is on the boundary or a curve, or crossing it goes back to the
+// face it came from (a ridge), or 16 faces were visited: then p^{k+1} is the closest point of
+// the current face. p^{k+1} is therefore always on the reference surface, in the same region,
+// and reached through faces that p^k's step crosses. This is a local search of O(1) per vertex
+// instead of a global closest-point query: for the modified mean-curvature flow the reference
+// changes every iteration (an AABB tree would be rebuilt each time), and for the modified
+// Laplacian flow a tree query costs more than the rest of the step; the walk gives the same face
+// as the closest-point query whenever the step stays within the faces around the vertex, which
+// the step bound above guarantees up to the walk's corner cases (ridges, where the closest
+// point of the last face is taken, which is the closest point of the two faces).
 #include <meshfit/flip.h>
 #include <meshfit/smooth.h>
 #include <meshfit/internal/unit_scale.h>

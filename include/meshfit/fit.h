@@ -123,41 +123,6 @@ struct Fit_options {
 /// \throws as fit_template_to_curves.
 void fit_work(Work_mesh& work, const Curve_network& network, const std::vector<Correspondence>& pairs,
               const Fit_options& options, double unit, Fit_report& report, Mesh_data& result);
-
-/// Whether a named parameter was given.
-template <typename T>
-constexpr bool is_given_v = !std::is_same_v<std::decay_t<T>, CGAL::internal_np::Param_not_found>;
-template <typename T>
-constexpr bool is_given(const T&) {
-  return is_given_v<T>;
-}
-
-/// The values of the vertex attribute `map` on the template's vertices, extended to the result's
-/// (adjacency) added vertices; empty when the map is not given.
-template <typename Channels, typename Map, typename VertexRange>
-std::vector<std::array<double, Channels::size>> extended_attribute(const Map& map, const VertexRange& template_vertices,
-                                                                   const Vertex_adjacency& adjacency) {
-  if constexpr (!is_given_v<Map>) {
-    return {};
-  } else {
-    std::vector<std::array<double, Channels::size>> fixed;
-    fixed.reserve(template_vertices.size());
-    for (auto v : template_vertices) fixed.push_back(Channels::read(get(map, v)));
-    return harmonic_extension(adjacency, fixed, Channels::name);
-  }
-}
-
-/// Puts `values[k]` on `vertex_of[k]` through `map` for the added vertices (k ≥ `template_count`).
-template <typename Channels, typename Map, typename VertexRange>
-void put_extended_attribute(const Map& map, const VertexRange& vertex_of, std::size_t template_count,
-                            const std::vector<std::array<double, Channels::size>>& values) {
-  if constexpr (is_given_v<Map>) {
-    using Value = typename boost::property_traits<Map>::value_type;
-    for (std::size_t k = template_count; k < values.size(); ++k)
-      put(map, vertex_of[k], Channels::template make<Value>(values[k]));
-  }
-}
-
 }  // namespace internal
 
 /// Fits `tm` (the template) to `network` through the user's `pairs` (template vertex index →

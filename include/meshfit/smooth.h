@@ -22,55 +22,18 @@
 // `edge_is_constrained_map` (a curve edge). The thesis fixes every vertex of the curves, inner
 // curve vertices included, and so does meshfit: curves keep their exact polylines, and since
 // connectivity never changes, curve edges stay edges. The projections of the modified flows also
-// never carry a vertex across a curve edge (see below), so every vertex stays in its region.
-//
-// Guards (so that no value is ever non-finite, and no face flips):
-//   - cotangents (eq. 4.8) are computed as cos/sin with the sine bounded below by sin(1°) times
-//     the product of the two edge lengths, i.e. |cot| ≤ cot(1°) ≈ 57.3: a needle or a zero-area
-//     face has bounded weights ("clamped" in the report);
-//   - the mean-curvature step of a vertex is λ·h̄²·H (h̄ the mean edge length of the mesh at the
-//     call, so λ is dimensionless), but never more than the step 4A/Σ|w| that moves the vertex
-//     to its cotangent-weighted neighbour average: the explicit scheme stays stable on small
-//     faces and a vertex whose faces have no area (A = 0) or whose weights all vanish stays put;
-//   - inverse-distance weights (eq. 4.4) use max(|p − q|, 1e-6·h̄);
-//   - after each step, every face whose normal would turn by more than 90° (floating-point
-//     filter, exact orientation test in the plane of the face when the filter is unsure)
-//     halves the step of its free corners, up to 4 times, after which those corners do not
-//     move in that iteration. Faces of zero area before the step have no normal and are not
-//     judged.
-//
-// The reference surfaces of the modified flows (eq. 4.9 and 4.11 project the step onto "the face
-// closest to p^k" and put p^{k+1} on that face): a vertex p^k lies on all of its incident faces
-// of the reference surface, so "the closest face" is decided by where the step goes. meshfit
-// walks from a face of the reference surface holding the vertex towards p^k + step: on the
-// current face, it takes the barycentric coordinates of the point projected onto the face's
-// plane; when they are all non-negative the projection is p^{k+1} (the intersection of n with
-// the face, as in figs. 4.11 and 4.12); otherwise it crosses the edge of the most negative
-// coordinate, unless that edge is on the boundary or a curve, or crossing it goes back to the
-// face it came from (a ridge), or 16 faces were visited: then p^{k+1} is the closest point of
-// the current face. p^{k+1} is therefore always on the reference surface, in the same region,
-// and reached through faces that p^k's step crosses. This is a local search of O(1) per vertex
-// instead of a global closest-point query: for the modified mean-curvature flow the reference
-// changes every iteration (an AABB tree would be rebuilt each time), and for the modified
-// Laplacian flow a tree query costs more than the rest of the step; the walk gives the same face
-// as the closest-point query whenever the step stays within the faces around the vertex, which
-// the step bound above guarantees up to the walk's corner cases (ridges, where the closest
-// point of the last face is taken, which is the closest point of the two faces).
+// never carry a vertex across a curve edge, so every vertex stays in its region.
+// How the flows are computed (the guards, the walk on the reference surface): src/smooth.cpp.
 #ifndef MESHFIT_SMOOTH_H
 #define MESHFIT_SMOOTH_H
 
 #include <meshfit/exceptions.h>
-#include <meshfit/internal/format_number.h>
 #include <meshfit/internal/stage_support.h>
-#include <meshfit/internal/triangle_corners.h>
 #include <meshfit/kernel.h>
 #include <meshfit/parameters.h>
 
-#include <CGAL/Dynamic_property_map.h>
 #include <CGAL/Named_function_parameters.h>
 #include <CGAL/boost/graph/helpers.h>
-#include <CGAL/boost/graph/iterator.h>
-#include <CGAL/boost/graph/named_params_helper.h>
 
 #include <array>
 #include <chrono>
@@ -117,203 +80,11 @@ struct Smoothing_report {
   std::size_t projections_clamped = 0;  ///< projections ended at a face's closest point (ridge, curve, boundary)
 };
 
-namespace internal {
+}  // namespace meshfit
 
-/// Which flow the core runs.
-enum class Flow_kind { laplacian, mean_curvature, modified_mean_curvature, modified_laplacian };
+#include <meshfit/internal/smooth_impl.h>
 
-/// The mesh as the compiled core sees it. `points` holds x y z per vertex and receives the result.
-struct Smoothing_arrays {
-  std::vector<double> points;
-  std::vector<std::array<std::uint32_t, 3>> triangles;
-  std::vector<unsigned char> fixed;  ///< per vertex; 1: never moves
-  std::vector<std::array<std::uint32_t, 2>> constrained_edges;  ///< the projection walks never cross them
-  /// Positions (x y z per vertex) of the reference surface of the modified Laplacian flow; empty:
-  /// the positions at the start of the flow.
-  std::vector<double> reference_points;
-  /// Positions (x y z per vertex) against which the flip guard also judges faces; empty: the
-  /// positions at the start of the flow (smooth_fitted_mesh sets them so that its two phases together
-  /// reverse no face of the input).
-  std::vector<double> orientation_points;
-};
-
-/// smooth_fitted_mesh's iterations in all when `number_of_iterations` is not given.
-constexpr std::size_t default_smoothing_iterations = 100;
-
-/// A flow's settings, with their defaults (flow_settings reads the named parameters into them).
-struct Flow_settings {
-  Flow_kind kind = Flow_kind::laplacian;
-  std::size_t iterations = 0;
-  double step = 1;
-  Laplacian_weights weights = Laplacian_weights::uniform;
-  Laplacian_variant variant = Laplacian_variant::none;
-  double alpha = 0.5;
-  /// Called before iteration `index` (0-based) of `total`; returning false cancels.
-  std::function<bool(std::size_t index, std::size_t total)> on_iteration;
-  std::size_t progress_offset = 0, progress_total = 0;  ///< smooth_fitted_mesh numbers both phases together
-};
-
-/// The compiled core (src/smooth.cpp): runs the flow on the arrays, in place. The report's
-/// counters are added to `report` (iterations included); displacements are not filled in.
-/// \throws Algorithm_failure("smooth", …) when `on_iteration` returns false (the arrays are then
-///         partly smoothed: the front ends write back only after a complete run);
-///         Numerical_error if a position became non-finite (the guards are meant to prevent it).
-void run_flow(Smoothing_arrays& mesh, const Flow_settings& settings, Smoothing_report& report);
-
-/// Checks the arrays (finite coordinates, indices in range, no repeated corner).
-/// \throws Invalid_input naming the vertex or face.
-void check_smoothing_input(const Smoothing_arrays& mesh);
-
-/// Fills mean_displacement and max_displacement from the positions before and after.
-void fill_displacements(const std::vector<double>& before, const std::vector<double>& after,
-                        Smoothing_report& report);
-
-template <typename NamedParameters>
-std::size_t iterations_parameter(const NamedParameters& np, std::size_t fallback) {
-  using CGAL::parameters::choose_parameter;
-  using CGAL::parameters::get_parameter;
-  return non_negative_count(choose_parameter(get_parameter(np, CGAL::internal_np::number_of_iterations), fallback),
-                            "smooth", "number_of_iterations");
-}
-
-/// The iterations of smooth_fitted_mesh's two phases: `number_of_iterations` (default 100) split
-/// one fifth modified mean curvature, the rest modified Laplacian, unless
-/// `mean_curvature_iterations` or `laplacian_iterations` give a phase's own count.
-/// \throws Invalid_input for a negative count.
-struct Smoothing_phases {
-  std::size_t mean_curvature = 0, laplacian = 0;
-};
-template <typename NamedParameters>
-Smoothing_phases smoothing_phases(const NamedParameters& np) {
-  using CGAL::parameters::choose_parameter;
-  using CGAL::parameters::get_parameter;
-  const std::size_t total = iterations_parameter(np, default_smoothing_iterations);
-  return {non_negative_count(choose_parameter(get_parameter(np, meshfit::internal_np::mean_curvature_iterations), total / 5),
-                             "smooth", "mean_curvature_iterations"),
-          non_negative_count(
-              choose_parameter(get_parameter(np, meshfit::internal_np::laplacian_iterations), total - total / 5),
-              "smooth", "laplacian_iterations")};
-}
-
-template <typename NamedParameters>
-Flow_settings flow_settings(const NamedParameters& np, Flow_kind kind, std::size_t default_iterations) {
-  using CGAL::parameters::choose_parameter;
-  using CGAL::parameters::get_parameter;
-  Flow_settings s;
-  s.kind = kind;
-  s.iterations = iterations_parameter(np, default_iterations);
-  s.step = choose_parameter(get_parameter(np, meshfit::internal_np::step_size), s.step);
-  if (!(s.step > 0 && s.step <= 1))
-    throw Invalid_input("smooth: step_size (lambda) must be in (0, 1], not " + std::to_string(s.step));
-  s.weights = choose_parameter(get_parameter(np, meshfit::internal_np::laplacian_weights), s.weights);
-  s.variant = choose_parameter(get_parameter(np, meshfit::internal_np::laplacian_variant), s.variant);
-  s.alpha = choose_parameter(get_parameter(np, meshfit::internal_np::laplacian_alpha), s.alpha);
-  if (!(s.alpha >= 0 && s.alpha <= 1))
-    throw Invalid_input("smooth: laplacian_alpha must be in [0, 1], not " + internal::format_number(s.alpha));
-  auto progress = get_parameter(np, meshfit::internal_np::progress);
-  if constexpr (!std::is_same_v<decltype(progress), CGAL::internal_np::Param_not_found>) {
-    s.on_iteration = [progress](std::size_t index, std::size_t total) {
-      return call_progress(progress, Progress_step{"smooth", "iteration", index, total});
-    };
-  }
-  return s;
-}
-
-/// The mesh in flat arrays, with the vertex descriptors in the order of vertices(tm).
-template <typename TriangleMesh, typename NamedParameters>
-struct Smoothing_front_end {
-  using GT = boost::graph_traits<TriangleMesh>;
-  using vertex_descriptor = typename GT::vertex_descriptor;
-
-  TriangleMesh& tm;
-  // A copy of the map (decayed: choose_parameter returns a reference to get_parameter's temporary
-  // when the caller gives a vertex_point_map).
-  std::decay_t<decltype(CGAL::parameters::choose_parameter(
-      CGAL::parameters::get_parameter(std::declval<const NamedParameters&>(), CGAL::internal_np::vertex_point),
-      get_property_map(CGAL::vertex_point, std::declval<TriangleMesh&>())))> vpm;
-  std::vector<vertex_descriptor> vertex;
-  Smoothing_arrays arrays;
-
-  Smoothing_front_end(TriangleMesh& m, const NamedParameters& np)
-      : tm(m),
-        vpm(CGAL::parameters::choose_parameter(CGAL::parameters::get_parameter(np, CGAL::internal_np::vertex_point),
-                                               get_property_map(CGAL::vertex_point, m))) {
-    using CGAL::parameters::get_parameter;
-    static_cast<void>(sizeof(Kernel_check<typename boost::property_traits<decltype(vpm)>::value_type, NamedParameters>));
-    auto index = get(CGAL::dynamic_vertex_property_t<std::size_t>(), tm);
-    vertex.reserve(num_vertices(tm));
-    arrays.points.reserve(3 * num_vertices(tm));
-    for (auto v : vertices(tm)) {
-      put(index, v, vertex.size());
-      vertex.push_back(v);
-      const auto& p = get(vpm, v);
-      arrays.points.insert(arrays.points.end(), {double(p.x()), double(p.y()), double(p.z())});
-    }
-    if (vertex.size() >= std::size_t(UINT32_MAX))
-      throw Invalid_input("smooth: more than 2^32 - 1 vertices are not supported");
-    arrays.fixed.assign(vertex.size(), 0);
-    arrays.triangles.reserve(num_faces(tm));
-    for (auto f : faces(tm)) {
-      const auto c = triangle_corners(f, tm, index);
-      arrays.triangles.push_back({std::uint32_t(c[0]), std::uint32_t(c[1]), std::uint32_t(c[2])});
-    }
-    for (std::size_t i = 0; i < vertex.size(); ++i)
-      if (CGAL::is_border(vertex[i], tm)) arrays.fixed[i] = 1;
-    auto vcm = get_parameter(np, CGAL::internal_np::vertex_is_constrained);
-    if constexpr (!std::is_same_v<decltype(vcm), CGAL::internal_np::Param_not_found>) {
-      for (std::size_t i = 0; i < vertex.size(); ++i)
-        if (get(vcm, vertex[i])) arrays.fixed[i] = 1;
-    }
-    auto ecm = get_parameter(np, CGAL::internal_np::edge_is_constrained);
-    if constexpr (!std::is_same_v<decltype(ecm), CGAL::internal_np::Param_not_found>) {
-      for (auto e : edges(tm))
-        if (get(ecm, e)) {
-          const std::uint32_t a = std::uint32_t(get(index, source(e, tm))), b = std::uint32_t(get(index, target(e, tm)));
-          arrays.fixed[a] = arrays.fixed[b] = 1;
-          arrays.constrained_edges.push_back({a, b});
-        }
-    }
-    auto ref = get_parameter(np, meshfit::internal_np::reference_points);
-    if constexpr (!std::is_same_v<decltype(ref), CGAL::internal_np::Param_not_found>) {
-      if (ref.size() != vertex.size())
-        throw Invalid_input("smooth: reference_points has " + std::to_string(ref.size()) + " points for " +
-                            std::to_string(vertex.size()) + " vertices");
-      arrays.reference_points.reserve(3 * ref.size());
-      for (const auto& p : ref) arrays.reference_points.insert(arrays.reference_points.end(), {double(p.x()), double(p.y()), double(p.z())});
-    }
-    check_smoothing_input(arrays);
-  }
-
-  void write_back() {
-    using P = typename boost::property_traits<decltype(vpm)>::value_type;
-    for (std::size_t i = 0; i < vertex.size(); ++i)
-      put(vpm, vertex[i], P(arrays.points[3 * i], arrays.points[3 * i + 1], arrays.points[3 * i + 2]));
-  }
-  std::size_t fixed_count() const {
-    std::size_t n = 0;
-    for (unsigned char f : arrays.fixed) n += f;
-    return n;
-  }
-};
-
-template <typename TriangleMesh, typename NamedParameters>
-Smoothing_report run_single_flow(TriangleMesh& tm, const NamedParameters& np, Flow_kind kind,
-                                 std::size_t default_iterations) {
-  const auto t0 = std::chrono::steady_clock::now();
-  Flow_settings settings = flow_settings(np, kind, default_iterations);
-  Smoothing_front_end<TriangleMesh, NamedParameters> fe(tm, np);
-  Smoothing_report report;
-  report.vertices = fe.vertex.size();
-  report.fixed_vertices = fe.fixed_count();
-  const std::vector<double> before = fe.arrays.points;
-  run_flow(fe.arrays, settings, report);
-  fill_displacements(before, fe.arrays.points, report);
-  fe.write_back();
-  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  return report;
-}
-
-}  // namespace internal
+namespace meshfit {
 
 /// Laplacian flow (eq. 4.1–4.4): p^{k+1} = p^k + λ Δ(p^k), Δ the umbrella operator with
 /// `laplacian_weights` (uniform, eq. 4.3, default; inverse distance, eq. 4.4); with

@@ -2,7 +2,7 @@
 #ifndef MESHFIT_INTERNAL_ANGLE_FLIPS_H
 #define MESHFIT_INTERNAL_ANGLE_FLIPS_H
 
-#include <meshfit/flip.h>
+#include <meshfit/predicates.h>
 #include <meshfit/internal/smallest_angle.h>
 #include <meshfit/internal/stage_support.h>
 #include <meshfit/kernel.h>

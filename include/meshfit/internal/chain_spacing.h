@@ -4,7 +4,7 @@
 #define MESHFIT_INTERNAL_CHAIN_SPACING_H
 
 #include <meshfit/curve_network.h>
-#include <meshfit/flip.h>
+#include <meshfit/predicates.h>
 #include <meshfit/internal/angle_flips.h>
 #include <meshfit/internal/stage_support.h>
 #include <meshfit/partition.h>

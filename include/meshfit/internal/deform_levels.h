@@ -5,7 +5,7 @@
 #define MESHFIT_INTERNAL_DEFORM_LEVELS_H
 
 #include <meshfit/deform.h>
-#include <meshfit/flip.h>
+#include <meshfit/predicates.h>
 #include <meshfit/internal/clear_mesh.h>
 #include <meshfit/internal/deform_impl.h>
 #include <meshfit/internal/resample_network.h>

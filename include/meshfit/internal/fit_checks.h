@@ -4,7 +4,7 @@
 #define MESHFIT_INTERNAL_FIT_CHECKS_H
 
 #include <meshfit/curve_network.h>
-#include <meshfit/flip.h>
+#include <meshfit/predicates.h>
 #include <meshfit/internal/border_cycles.h>
 #include <meshfit/internal/stage_support.h>
 

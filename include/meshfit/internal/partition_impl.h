@@ -33,7 +33,7 @@
 #define MESHFIT_INTERNAL_PARTITION_IMPL_H
 
 #include <meshfit/correspondence.h>
-#include <meshfit/flip.h>
+#include <meshfit/predicates.h>
 #include <meshfit/partition.h>
 #include <meshfit/surface_walk.h>
 

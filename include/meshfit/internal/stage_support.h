@@ -78,6 +78,14 @@ std::size_t non_negative_count(const T& n, const char* stage, const char* what) 
   return static_cast<std::size_t>(n);
 }
 
+/// Whether a named parameter was given.
+template <typename T>
+constexpr bool is_given_v = !std::is_same_v<std::decay_t<T>, CGAL::internal_np::Param_not_found>;
+template <typename T>
+constexpr bool is_given(const T&) {
+  return is_given_v<T>;
+}
+
 /// Whether a point type has double Cartesian coordinates (x(), y(), z() of type double): every
 /// Cartesian kernel over double (Epick, Simple_cartesian<double>, Cartesian<double>), not Epeck.
 template <typename Point>

@@ -16,6 +16,7 @@
 
 #include <meshfit/displacement.h>
 #include <meshfit/exceptions.h>
+#include <meshfit/internal/stage_support.h>
 #include <meshfit/io.h>
 
 #include <CGAL/IO/Color.h>
@@ -121,6 +122,32 @@ struct Color_channels {
     return T(byte(c[0]), byte(c[1]), byte(c[2]), byte(c[3]));
   }
 };
+
+/// The values of the vertex attribute `map` on the template's vertices, extended to the result's
+/// (adjacency) added vertices; empty when the map is not given.
+template <typename Channels, typename Map, typename VertexRange>
+std::vector<std::array<double, Channels::size>> extended_attribute(const Map& map, const VertexRange& template_vertices,
+                                                                   const Vertex_adjacency& adjacency) {
+  if constexpr (!is_given_v<Map>) {
+    return {};
+  } else {
+    std::vector<std::array<double, Channels::size>> fixed;
+    fixed.reserve(template_vertices.size());
+    for (auto v : template_vertices) fixed.push_back(Channels::read(get(map, v)));
+    return harmonic_extension(adjacency, fixed, Channels::name);
+  }
+}
+
+/// Puts `values[k]` on `vertex_of[k]` through `map` for the added vertices (k ≥ `template_count`).
+template <typename Channels, typename Map, typename VertexRange>
+void put_extended_attribute(const Map& map, const VertexRange& vertex_of, std::size_t template_count,
+                            const std::vector<std::array<double, Channels::size>>& values) {
+  if constexpr (is_given_v<Map>) {
+    using Value = typename boost::property_traits<Map>::value_type;
+    for (std::size_t k = template_count; k < values.size(); ++k)
+      put(map, vertex_of[k], Channels::template make<Value>(values[k]));
+  }
+}
 
 }  // namespace internal
 }  // namespace meshfit
