@@ -1,5 +1,6 @@
 #include <meshfit/check.h>
 #include <meshfit/internal/smallest_angle.h>
+#include <boost/pending/disjoint_sets.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -39,19 +40,12 @@ Mesh_summary summarize_mesh(const Mesh_data& mesh) {
   }
 
   // Components over faces; Euler characteristic per component gives its genus.
-  std::vector<std::size_t> parent(n);
-  std::iota(parent.begin(), parent.end(), 0);
-  auto root = [&](std::size_t i) {
-    while (parent[i] != i) i = parent[i] = parent[parent[i]];
-    return i;
-  };
+  boost::disjoint_sets_with_storage<> sets(n);
+  auto root = [&](std::size_t i) { return sets.find_set(i); };
   std::vector<bool> used(n, false);
   for (const auto& t : mesh.triangles) {
     for (std::size_t v : t) used[v] = true;
-    for (int j = 1; j < 3; ++j) {
-      const std::size_t a = root(t[0]), b = root(t[j]);
-      if (a != b) parent[a] = b;
-    }
+    for (int j = 1; j < 3; ++j) sets.union_set(t[0], t[j]);
   }
   std::vector<long long> chi(n, 0), boundaries(n, 0);
   for (std::size_t v = 0; v < n; ++v) {

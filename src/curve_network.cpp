@@ -3,6 +3,7 @@
 #include <meshfit/coordinate_range.h>
 #include <meshfit/internal/format_number.h>
 #include <meshfit/internal/resample_network.h>
+#include <boost/pending/disjoint_sets.hpp>
 
 #include "polygon_soup.h"
 #include "text_parser.h"
@@ -220,16 +221,9 @@ Curve_network::Curve_network(const std::vector<Polyline>& polylines, double rela
     }
 
   // Components (union-find over segments), numbered by their lowest vertex.
-  std::vector<std::size_t> parent(m_points.size());
-  std::iota(parent.begin(), parent.end(), 0);
-  auto root = [&](std::size_t i) {
-    while (parent[i] != i) i = parent[i] = parent[parent[i]];
-    return i;
-  };
-  for (const Segment& s : m_segments) {
-    const std::size_t a = root(s[0]), b = root(s[1]);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  }
+  boost::disjoint_sets_with_storage<> sets(m_points.size());
+  auto root = [&](std::size_t i) { return sets.find_set(i); };
+  for (const Segment& s : m_segments) sets.union_set(s[0], s[1]);
   m_component.assign(m_points.size(), 0);
   std::vector<std::size_t> number(m_points.size(), SIZE_MAX);
   for (std::size_t v = 0; v < m_points.size(); ++v) {

@@ -5,6 +5,7 @@
 #include "polygon_soup.h"
 
 #include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
+#include <boost/pending/disjoint_sets.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -68,11 +69,6 @@ struct Half_edge {
     return std::tie(lo, hi, face) < std::tie(o.lo, o.hi, o.face);
   }
 };
-
-std::size_t find_root(std::vector<std::size_t>& parent, std::size_t i) {
-  while (parent[i] != i) i = parent[i] = parent[parent[i]];
-  return i;
-}
 
 }  // namespace
 
@@ -171,7 +167,6 @@ Mesh_data validate_polygon_soup(const Polygon_soup& soup, Mesh_read_report* repo
   for (std::size_t t = 0; t < nt; ++t)
     for (std::size_t v : mesh.triangles[t]) corner_face[fill[v]++] = t;
   std::vector<std::pair<std::size_t, std::size_t>> nbr;  // (other vertex, local corner)
-  std::vector<std::size_t> parent;
   for (std::size_t v = 0; v < n; ++v) {
     const std::size_t m = first[v + 1] - first[v];
     if (m == 0) {
@@ -185,18 +180,17 @@ Mesh_data validate_polygon_soup(const Polygon_soup& soup, Mesh_read_report* repo
         if (w != v) nbr.emplace_back(w, i);
     }
     std::sort(nbr.begin(), nbr.end());
-    parent.resize(m);
-    std::iota(parent.begin(), parent.end(), 0);
+    boost::disjoint_sets_with_storage<> fans(m);  // the faces around v, joined across shared edges
     std::size_t components = m;
     for (std::size_t i = 1; i < nbr.size(); ++i)
-      if (nbr[i].first == nbr[i - 1].first) {
-        const std::size_t a = find_root(parent, nbr[i].second), b = find_root(parent, nbr[i - 1].second);
-        if (a != b) { parent[a] = b; --components; }
+      if (nbr[i].first == nbr[i - 1].first && fans.find_set(nbr[i].second) != fans.find_set(nbr[i - 1].second)) {
+        fans.union_set(nbr[i].second, nbr[i - 1].second);
+        --components;
       }
     if (components > 1) {
-      const std::size_t root0 = find_root(parent, 0);
+      const std::size_t root0 = fans.find_set(std::size_t(0));
       std::size_t other = 1;
-      while (find_root(parent, other) == root0) ++other;
+      while (fans.find_set(other) == root0) ++other;
       const std::size_t p = source[corner_face[first[v]]], q = source[corner_face[first[v] + other]];
       fail_at_polygon(q, "face " + std::to_string(q) + " and face " + std::to_string(p) + " (" +
                              where_text(soup, soup.polygon_where[p]) + ") meet only at vertex " +

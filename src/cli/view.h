@@ -2,6 +2,7 @@
 #ifndef MESHFIT_SRC_CLI_VIEW_H
 #define MESHFIT_SRC_CLI_VIEW_H
 
+#include <meshfit/curve_network.h>
 #include <meshfit/io.h>
 
 #include <iosfwd>
@@ -16,7 +17,7 @@ struct View_inputs {
   std::string correspondences_path;  ///< "" when none
   std::vector<std::string> results;  ///< meshes to show (fit's output, or one per stage)
   std::vector<std::string> reports;  ///< report k belongs to result k; at most one per result
-  double merge_tolerance = 1e-9;
+  double merge_tolerance = meshfit::default_merge_tolerance;
 };
 
 /// `text` as a JSON string. "</" is written "<\/", so that the text is also safe inside an HTML

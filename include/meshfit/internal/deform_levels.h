@@ -96,8 +96,7 @@ Deformation_report deform_coarse_impl(TriangleMesh& tm, const Curve_network& net
   for (const Correspondence& c : pairs) report.mesh_vertex_of_network_vertex[c.network_vertex] = c.template_vertex;
   return report;
 }
-}  // namespace internal
-namespace internal {
+
 /// deform_fine on `tm` itself: the mesh changes as the work goes (a cancel or a failure leaves it
 /// partly changed). For meshes the pipeline owns (a Stage_copy, fit's copy).
 template <typename TriangleMesh>
@@ -269,8 +268,7 @@ Deformation_report deform_fine_impl(TriangleMesh& tm, const Curve_network& netwo
   report.faces = num_faces(tm);
   return report;
 }
-}  // namespace internal
-namespace internal {
+
 /// deform_fine_on_surface on `tm` itself: the mesh changes as the work goes (a cancel or a failure leaves it
 /// partly changed). For meshes the pipeline owns (a Stage_copy, fit's copy).
 template <typename TriangleMesh>
@@ -419,8 +417,7 @@ Deformation_report deform_fine_on_surface_impl(TriangleMesh& tm, const Curve_net
   if (best_mesh) restore(*best_mesh);
   return *best;
 }
-}  // namespace internal
-namespace internal {
+
 /// deform_template on the inputs as they are.
 template <typename TriangleMesh>
 Deformation_report deform_template_unscaled(TriangleMesh& tm, const Curve_network& network,
@@ -457,9 +454,7 @@ Deformation_report deform_template_unscaled(TriangleMesh& tm, const Curve_networ
   fine.template_subdivisions = subdivisions;
   return fine;
 }
-}  // namespace internal
 
-namespace internal {
 /// deform_template on `tm` itself: the mesh changes as the work goes (a cancel or a failure leaves it
 /// partly changed). For meshes the pipeline owns (a Stage_copy, fit's copy).
 template <typename TriangleMesh>

@@ -41,6 +41,7 @@
 #include <CGAL/boost/graph/Euler_operations.h>
 #include <CGAL/boost/graph/helpers.h>
 #include <CGAL/boost/graph/iterator.h>
+#include <boost/pending/disjoint_sets.hpp>
 
 #include <algorithm>
 #include <array>
@@ -162,19 +163,14 @@ class Partitioner {
     auto index_of = get(CGAL::dynamic_face_property_t<std::size_t>(), m_tm);
     std::size_t n = 0;
     for (auto f : faces(m_tm)) put(index_of, f, n++);
-    std::vector<std::size_t> parent(n);
-    for (std::size_t i = 0; i < n; ++i) parent[i] = i;
-    auto root = [&parent](std::size_t i) {
-      while (parent[i] != i) i = parent[i] = parent[parent[i]];
-      return i;
-    };
+    boost::disjoint_sets_with_storage<> sets(n);
+    auto root = [&sets](std::size_t i) { return sets.find_set(i); };
     for (auto e : edges(m_tm)) {
       const halfedge_descriptor h = halfedge(e, m_tm), g = opposite(h, m_tm);
       if (is_border(h, m_tm) || is_border(g, m_tm) || get(m_ecm, e)) continue;
-      const std::size_t a = root(get(index_of, face(h, m_tm))), b = root(get(index_of, face(g, m_tm)));
-      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+      sets.union_set(get(index_of, face(h, m_tm)), get(index_of, face(g, m_tm)));
     }
-    // Roots are the lowest face of each set, so labels follow the order of first faces.
+    // Labels are given in the order of each set's first face.
     std::vector<std::size_t> label(n, static_cast<std::size_t>(-1));
     std::size_t count = 0;
     for (std::size_t i = 0; i < n; ++i) {
