@@ -14,7 +14,6 @@
 
 #include <chrono>
 #include <cmath>
-#include <memory>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -22,8 +21,9 @@
 namespace meshfit {
 namespace internal {
 
-void fit_work(Work_mesh& work, const Curve_network& network, const std::vector<Correspondence>& pairs,
-              const Fit_options& options, double unit, Fit_report& report, Mesh_data& result) {
+void fit_work(const Mesh_data& template_data, const Curve_network& network, const std::vector<Correspondence>& pairs,
+              const Fit_options& options, double unit, Fit_report& report, Work_mesh& work, Mesh_data& result) {
+  build_triangle_mesh(template_data, work);
   const Progress_callback& progress = options.deform.progress;
   const std::size_t mc_iterations = options.mean_curvature_iterations, lap_iterations = options.laplacian_iterations;
   const double step = options.step;
@@ -32,7 +32,6 @@ void fit_work(Work_mesh& work, const Curve_network& network, const std::vector<C
   // What the template had before the stages: the verification counts only what they made (the
   // template scaled by a power of two, which no predicate sees).
   const std::size_t template_folded_edges = folded_and_degenerate(work, wvpm).first;
-  const std::unique_ptr<const Work_mesh> template_copy(check_self_intersections ? new Work_mesh(work) : nullptr);
 
   auto t = std::chrono::steady_clock::now();
   // The stages work on `work` itself (their public forms would copy it again).
@@ -108,7 +107,11 @@ void fit_work(Work_mesh& work, const Curve_network& network, const std::vector<C
   if (check_self_intersections && v.non_finite_coordinates == 0) {
     v.self_intersection_checked = true;
     v.self_intersects = CGAL::Polygon_mesh_processing::does_self_intersect(work);
-    v.template_self_intersects = v.self_intersects && CGAL::Polygon_mesh_processing::does_self_intersect(*template_copy);
+    if (v.self_intersects) {  // did the template have them already? (its mesh made again only then)
+      Work_mesh template_mesh;
+      build_triangle_mesh(template_data, template_mesh);
+      v.template_self_intersects = CGAL::Polygon_mesh_processing::does_self_intersect(template_mesh);
+    }
   }
   report.verify_seconds = seconds_since(t);
   report.vertices = num_vertices(work);

@@ -91,6 +91,39 @@ TEST_CASE("parameters: smooth_fitted_mesh does not clash with PMP::smooth_mesh u
   CHECK(using_directives::smooth_unqualified(tm, 3).iterations == 3);
 }
 
+TEST_CASE("parameters: deform_parameters gives deform_options every field back, the callback included",
+          "[parameters]") {
+  meshfit::Deform_options o;
+  o.rbf_kernel = meshfit::Rbf_kernel::cubic;
+  o.curve_density = meshfit::Curve_density::drop;
+  o.fine_level = meshfit::Fine_level::thesis;
+  o.coarse_only = true;
+  o.flip_prevention_rounds = 7;
+  o.memory_limit = 123456789;
+  int calls = 0;
+  o.progress = [&calls](const meshfit::Progress_step&) { return ++calls < 2; };
+  const meshfit::Deform_options back = meshfit::deform_options(meshfit::deform_parameters(o));
+  CHECK(back.rbf_kernel == meshfit::Rbf_kernel::cubic);
+  CHECK(back.curve_density == meshfit::Curve_density::drop);
+  CHECK(back.fine_level == meshfit::Fine_level::thesis);
+  CHECK(back.coarse_only);
+  CHECK(back.flip_prevention_rounds == 7);
+  CHECK(back.memory_limit == 123456789);
+  CHECK(back.progress(meshfit::Progress_step{"deform", "a", 0, 1}));
+  CHECK_FALSE(back.progress(meshfit::Progress_step{"deform", "b", 1, 2}));
+  CHECK(calls == 2);
+  // No parameter: the struct's defaults.
+  const meshfit::Deform_options none = meshfit::deform_options(meshfit::parameters::default_values());
+  const meshfit::Deform_options defaults;
+  CHECK(none.rbf_kernel == defaults.rbf_kernel);
+  CHECK(none.curve_density == defaults.curve_density);
+  CHECK(none.fine_level == defaults.fine_level);
+  CHECK(none.coarse_only == defaults.coarse_only);
+  CHECK(none.flip_prevention_rounds == defaults.flip_prevention_rounds);
+  CHECK(none.memory_limit == defaults.memory_limit);
+  CHECK(none.progress(meshfit::Progress_step{"deform", "c", 0, 1}));
+}
+
 TEST_CASE("parameters: a chain of meshfit and CGAL parameters reads back with its types and values",
           "[parameters]") {
   Surface tm = make_mesh<Surface>(meshfit_test::octahedron());

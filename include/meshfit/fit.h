@@ -116,13 +116,13 @@ struct Fit_options {
   bool check_self_intersections = true;                                 ///< check_self_intersections
 };
 
-/// Stages 1-3 and the verification on `work`, the template scaled to a unit-sized box, against
-/// `network` scaled by `unit` (compiled once, src/fit.cpp). Fills `report` (but for the
-/// template's counts and the total time) and `result`: the result, scaled back to the network's
-/// frame, with its curve edges and regions.
+/// Stages 1-3 and the verification (compiled once, src/fit.cpp) on `work`, built from
+/// `template_data` (the template scaled to a unit-sized box), against `network` scaled by `unit`.
+/// Fills `report` (but for the template's counts and the total time) and `result`: the result,
+/// scaled back to the network's frame, with its curve edges and regions.
 /// \throws as fit_template_to_curves.
-void fit_work(Work_mesh& work, const Curve_network& network, const std::vector<Correspondence>& pairs,
-              const Fit_options& options, double unit, Fit_report& report, Mesh_data& result);
+void fit_work(const Mesh_data& template_data, const Curve_network& network, const std::vector<Correspondence>& pairs,
+              const Fit_options& options, double unit, Fit_report& report, Work_mesh& work, Mesh_data& result);
 }  // namespace internal
 
 /// Fits `tm` (the template) to `network` through the user's `pairs` (template vertex index →
@@ -354,18 +354,15 @@ Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& input_n
   const double unit = internal::unit_scale(input_network.bbox());
   const Curve_network scaled_network = unit == 1 ? Curve_network() : internal::scaled(input_network, unit);
   const Curve_network& network = unit == 1 ? input_network : scaled_network;
-  // (A Work_mesh whatever TriangleMesh is: the caller's points may be of any Cartesian kernel over
-  // double.)
-  internal::Work_mesh work;
-  {
-    Mesh_data data = to_mesh_data(tm, CGAL::parameters::vertex_point_map(vpm));
-    for (Point_3& p : data.points) p = internal::scaled(p, template_unit);
-    build_triangle_mesh(data, work);
-  }
+  // (A Work_mesh, built from template_data, whatever TriangleMesh is: the caller's points may be of
+  // any Cartesian kernel over double.)
+  Mesh_data template_data = to_mesh_data(tm, CGAL::parameters::vertex_point_map(vpm));
+  for (Point_3& p : template_data.points) p = internal::scaled(p, template_unit);
 
   // Stages 1-3 and the verification, compiled once (src/fit.cpp); `result` is in the network's frame.
+  internal::Work_mesh work;
   Mesh_data result;
-  internal::fit_work(work, network, pairs, options, unit, report, result);
+  internal::fit_work(template_data, network, pairs, options, unit, report, work, result);
 
   // The added vertices' attributes, computed before `tm` changes (a solve that throws leaves it
   // as it was); see internal/vertex_attributes.h.
