@@ -97,115 +97,97 @@ Deformation_report deform_coarse_impl(TriangleMesh& tm, const Curve_network& net
   return report;
 }
 
-/// deform_fine on `tm` itself: the mesh changes as the work goes (a cancel or a failure leaves it
-/// partly changed). For meshes the pipeline owns (a Stage_copy, fit's copy).
+/// The thesis's fine level (deform_fine) on a mesh: closest-point pairs for the network vertices,
+/// a fine RBF through them, and local subdivision where faces flip (§2.3), round after round.
 template <typename TriangleMesh>
-Deformation_report deform_fine_impl(TriangleMesh& tm, const Curve_network& network,
-                                    const std::vector<Correspondence>& pairs, const Deform_options& options) {
-  using GT = boost::graph_traits<TriangleMesh>;
-  const auto t0 = std::chrono::steady_clock::now();
-  const Rbf_kernel kernel = options.rbf_kernel;
-  const Curve_density density = options.curve_density;
-  const std::size_t max_rounds = options.flip_prevention_rounds;
-  const Progress_callback& progress = options.progress;
-  const std::size_t memory_limit = options.memory_limit;
-
-  auto vpm = get_property_map(CGAL::vertex_point, tm);
-  internal::Deform_state<TriangleMesh, decltype(vpm)> s(tm, vpm);
-  internal::check_pairs(pairs, s.vertex.size(), num_faces(tm), network);
-  internal::check_polylines_near(tm, vpm, network);
-  if (density == Curve_density::refine) {  // every network vertex will be a centre of the fine RBF
-    const double n = static_cast<double>(network.number_of_vertices() + 4);
-    check_memory_estimate(2 * 8 * n * n, memory_limit, "deform",
-                          "the fine RBF through all " + std::to_string(network.number_of_vertices()) +
-                              " network vertices (a dense system of as many unknowns)");
+class Thesis_fine_level {
+ public:
+  Thesis_fine_level(TriangleMesh& tm, const Curve_network& network, const std::vector<Correspondence>& pairs,
+                    const Deform_options& options)
+      : tm(tm), network(network), pairs(pairs), options(options), vpm(get_property_map(CGAL::vertex_point, tm)),
+        s(tm, vpm), fixed(pairs) {
+    report.fine_level = Fine_level::thesis;
+    report.user_pairs = pairs.size();
   }
-  Deformation_report report;
-  report.fine_level = Fine_level::thesis;
-  report.user_pairs = pairs.size();
-  // Vertices of no face (unused) are no candidates for the closest-point pairs and do not move.
-  std::vector<bool> used(s.vertex.size());
-  for (std::size_t i = 0; i < s.vertex.size(); ++i) used[i] = halfedge(s.vertex[i], tm) != GT::null_halfedge();
-  // Flip prevention adds vertices; beyond this many it is not converging.
-  const std::size_t max_vertices = 8 * (s.vertex.size() + network.number_of_vertices());
 
-  // Pairs kept from round to round: the user's, then those made for density and flips.
-  std::vector<Correspondence> fixed = pairs;
-  const std::size_t user_pairs = pairs.size();
-  // Density refinement repeats while it makes progress (a loser whose nearest point is taken by
-  // a nearer network vertex may need several passes), within a bound.
-  std::size_t refine_passes = 0, last_losers = SIZE_MAX;
-  const std::size_t max_refine_passes = 32;
-
-  // Gives each listed network vertex a mesh vertex at its nearest point on the surface (one per
-  // face and call) and pins it there; splits `centroid_faces` at their centroids. Moving such a
-  // vertex onto its network vertex is a motion along the normal, which flips nothing. Returns
-  // the number of new vertices.
-  auto pin_at_projections = [&](const std::vector<std::size_t>& network_vertices,
-                                const std::vector<typename GT::face_descriptor>& centroid_faces) {
-    using Primitive = CGAL::AABB_face_graph_triangle_primitive<TriangleMesh, decltype(vpm)>;
-    using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
-    std::map<typename GT::face_descriptor, std::pair<std::size_t, Point_3>> at;
-    if (!network_vertices.empty()) {
-      Tree tree(faces(tm).first, faces(tm).second, tm, vpm);
-      tree.accelerate_distance_queries();
-      for (std::size_t v : network_vertices) {
-        const auto hit = tree.closest_point_and_primitive(network.point(v));
-        at.emplace(hit.second, std::make_pair(v, Point_3(hit.first.x(), hit.first.y(), hit.first.z())));
+  Deformation_report run() {
+    check_inputs();
+    // Vertices of no face (unused) are no candidates for the closest-point pairs and do not move.
+    used.resize(s.vertex.size());
+    for (std::size_t i = 0; i < s.vertex.size(); ++i) used[i] = halfedge(s.vertex[i], tm) != GT::null_halfedge();
+    // Flip prevention adds vertices; beyond this many it is not converging.
+    max_vertices = 8 * (s.vertex.size() + network.number_of_vertices());
+    std::vector<Point_3> moved;
+    for (std::size_t round = 0;; ++round) {
+      const std::vector<Point_3> before = s.positions();
+      used.resize(s.vertex.size(), true);  // (vertices inserted since are on faces)
+      assignment = closest_point_correspondences(before, network, fixed, Loser_rule::drop, used);
+      if (refine_density()) {
+        --round;  // refinement is not a flip round
+        continue;
       }
-    }
-    const std::size_t before_count = s.vertex.size();
-    std::vector<bool> reserved(s.vertex.size(), false);
-    for (const Correspondence& c : fixed) reserved[c.template_vertex] = true;
-    for (const auto& [f, vp] : at) {
-      const std::size_t network_vertex = vp.first;  // (lambdas cannot capture structured bindings)
-      const std::size_t t = s.insert_near(f, vp.second, reserved);
-      reserved.resize(s.vertex.size(), false);
-      reserved[t] = true;
-      // A network vertex pinned before is re-pinned (never one of the user's pairs).
-      bool users = false;
-      for (std::size_t k = 0; k < fixed.size(); ++k) {
-        if (fixed[k].network_vertex != network_vertex) continue;
-        if (k < user_pairs) {
-          users = true;
-        } else {
-          fixed.erase(fixed.begin() + static_cast<std::ptrdiff_t>(k));
-          break;
-        }
+      report_progress(options.progress, "deform", "fine: RBF through the correspondences and flip detection", round,
+                      options.flip_prevention_rounds);
+      const std::vector<std::pair<std::size_t, std::size_t>> placed = move_by_rbf(before, moved);
+      const auto flipped = s.flipped_faces(before, moved, report.degenerate_faces_skipped);
+      report.flip_rounds = round + 1;
+      report.flips_found += flipped.size();
+      if (flipped.empty() || round + 1 >= options.flip_prevention_rounds) {
+        report.remaining_flips = flipped.size();
+        break;
       }
-      if (users) continue;
-      Correspondence c;
-      c.template_vertex = t;
-      c.network_vertex = network_vertex;
-      fixed.push_back(c);
+      subdivide_flipped(flipped, placed, before, moved, round);
     }
-    for (auto f : centroid_faces)
-      if (!at.count(f)) s.split_face(f);
-    return s.vertex.size() - before_count;
-  };
+    s.set_positions(moved);
+    report.fine_done = true;
+    // With Curve_density::refine these are the network vertices refinement could not serve.
+    report.dropped_network_vertices = assignment.losers;
+    report.mesh_vertex_of_network_vertex = assignment.template_of;
+    report.fine_seconds = seconds_since(t0);
+    report.vertices = num_vertices(tm);
+    report.faces = num_faces(tm);
+    return report;
+  }
 
-  std::vector<Point_3> moved;
-  Closest_point_assignment assignment;
-  for (std::size_t round = 0;; ++round) {
-    std::vector<Point_3> before = s.positions();
-    used.resize(s.vertex.size(), true);  // (vertices inserted since are on faces)
-    assignment = closest_point_correspondences(before, network, fixed, Loser_rule::drop, used);
+ private:
+  using GT = boost::graph_traits<TriangleMesh>;
+  using face_descriptor = typename GT::face_descriptor;
+  using VPM = typename boost::property_map<TriangleMesh, CGAL::vertex_point_t>::type;
 
-    if (!assignment.losers.empty() && density == Curve_density::refine &&
-        refine_passes < max_refine_passes && assignment.losers.size() < last_losers) {
-      ++refine_passes;
-      last_losers = assignment.losers.size();
-      internal::report_progress(progress, "deform", "fine: refining where the curves are denser than the template",
-                                refine_passes - 1, max_refine_passes);
-      report.vertices_inserted_for_density += pin_at_projections(assignment.losers, {});
-      --round;  // refinement is not a flip round
-      continue;
+  void check_inputs() const {
+    check_pairs(pairs, s.vertex.size(), num_faces(tm), network);
+    check_polylines_near(tm, vpm, network);
+    if (options.curve_density == Curve_density::refine) {  // every network vertex will be a centre of the fine RBF
+      const double n = static_cast<double>(network.number_of_vertices() + 4);
+      check_memory_estimate(2 * 8 * n * n, options.memory_limit, "deform",
+                            "the fine RBF through all " + std::to_string(network.number_of_vertices()) +
+                                " network vertices (a dense system of as many unknowns)");
     }
+  }
 
-    internal::report_progress(progress, "deform", "fine: RBF through the correspondences and flip detection", round,
-                              max_rounds);
+  // Density refinement: network vertices that lost their nearest template vertex to another get
+  // vertices of their own. It repeats while it makes progress (a loser whose nearest point is
+  // taken by a nearer network vertex may need several passes), within a bound. True when it ran.
+  bool refine_density() {
+    constexpr std::size_t max_refine_passes = 32;
+    if (assignment.losers.empty() || options.curve_density != Curve_density::refine ||
+        refine_passes >= max_refine_passes || assignment.losers.size() >= last_losers)
+      return false;
+    ++refine_passes;
+    last_losers = assignment.losers.size();
+    report_progress(options.progress, "deform", "fine: refining where the curves are denser than the template",
+                    refine_passes - 1, max_refine_passes);
+    report.vertices_inserted_for_density += pin_at_projections(assignment.losers, {});
+    return true;
+  }
+
+  // The fine RBF through the assigned pairs moves every vertex from `before` to `moved`; the
+  // paired ones land exactly on their network vertices, unused ones stay. Returns the pairs
+  // (mesh vertex, network vertex).
+  std::vector<std::pair<std::size_t, std::size_t>> move_by_rbf(const std::vector<Point_3>& before,
+                                                               std::vector<Point_3>& moved) {
     std::vector<Point_3> centres, values;
-    std::vector<std::pair<std::size_t, std::size_t>> placed;  // (mesh vertex, network vertex)
+    std::vector<std::pair<std::size_t, std::size_t>> placed;
     for (std::size_t v = 0; v < assignment.template_of.size(); ++v) {
       const std::size_t t = assignment.template_of[v];
       if (t == Closest_point_assignment::unassigned) continue;
@@ -213,27 +195,26 @@ Deformation_report deform_fine_impl(TriangleMesh& tm, const Curve_network& netwo
       values.push_back(network.point(v));
       placed.emplace_back(t, v);
     }
-    const Rbf_interpolant E = Rbf_interpolant::fit(centres, values, kernel, {}, &report.fine_fit, memory_limit);
+    const Rbf_interpolant E =
+        Rbf_interpolant::fit(centres, values, options.rbf_kernel, {}, &report.fine_fit, options.memory_limit);
     moved.clear();
     E.evaluate(before, moved);
     for (const auto& [t, v] : placed) moved[t] = network.point(v);
     for (std::size_t t = 0; t < used.size(); ++t)
       if (!used[t]) moved[t] = before[t];
     report.fine_pairs = placed.size();
+    return placed;
+  }
 
-    const auto flipped = s.flipped_faces(before, moved, report.degenerate_faces_skipped);
-    report.flip_rounds = round + 1;
-    report.flips_found += flipped.size();
-    if (flipped.empty() || round + 1 >= max_rounds) {
-      report.remaining_flips = flipped.size();
-      break;
-    }
-    // Local subdivision (§2.3.2): a face flips because a paired corner is pulled across it
-    // towards its network vertex. That network vertex gets a vertex of its own at its nearest
-    // point on the surface (pin_at_projections), and the corner is released; the correspondences
-    // are then recomputed. Flipped faces with no paired corner are split at their centroid.
+  // Local subdivision (§2.3.2): a face flips because a paired corner is pulled across it
+  // towards its network vertex. That network vertex gets a vertex of its own at its nearest
+  // point on the surface (pin_at_projections), and the corner is released; the correspondences
+  // are then recomputed. Flipped faces with no paired corner are split at their centroid.
+  void subdivide_flipped(const std::vector<face_descriptor>& flipped,
+                         const std::vector<std::pair<std::size_t, std::size_t>>& placed,
+                         const std::vector<Point_3>& before, const std::vector<Point_3>& moved, std::size_t round) {
     std::vector<std::size_t> pulled;
-    std::vector<typename GT::face_descriptor> unpaired;
+    std::vector<face_descriptor> unpaired;
     std::vector<std::size_t> network_of(s.vertex.size(), Closest_point_assignment::unassigned);
     for (const auto& [t, v] : placed) network_of[t] = v;
     for (auto f : flipped) {
@@ -258,16 +239,173 @@ Deformation_report deform_fine_impl(TriangleMesh& tm, const Curve_network& netwo
     report.faces_subdivided += s.faces_split - split_before;
   }
 
-  s.set_positions(moved);
-  report.fine_done = true;
-  // With Curve_density::refine these are the network vertices refinement could not serve.
-  report.dropped_network_vertices = assignment.losers;
-  report.mesh_vertex_of_network_vertex = assignment.template_of;
-  report.fine_seconds = internal::seconds_since(t0);
-  report.vertices = num_vertices(tm);
-  report.faces = num_faces(tm);
-  return report;
+  // Gives each listed network vertex a mesh vertex at its nearest point on the surface (one per
+  // face and call) and pins it there; splits `centroid_faces` at their centroids. Moving such a
+  // vertex onto its network vertex is a motion along the normal, which flips nothing. Returns
+  // the number of new vertices.
+  std::size_t pin_at_projections(const std::vector<std::size_t>& network_vertices,
+                                 const std::vector<face_descriptor>& centroid_faces) {
+    using Primitive = CGAL::AABB_face_graph_triangle_primitive<TriangleMesh, VPM>;
+    using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+    std::map<face_descriptor, std::pair<std::size_t, Point_3>> at;
+    if (!network_vertices.empty()) {
+      Tree tree(faces(tm).first, faces(tm).second, tm, vpm);
+      tree.accelerate_distance_queries();
+      for (std::size_t v : network_vertices) {
+        const auto hit = tree.closest_point_and_primitive(network.point(v));
+        at.emplace(hit.second, std::make_pair(v, Point_3(hit.first.x(), hit.first.y(), hit.first.z())));
+      }
+    }
+    const std::size_t before_count = s.vertex.size();
+    std::vector<bool> reserved(s.vertex.size(), false);
+    for (const Correspondence& c : fixed) reserved[c.template_vertex] = true;
+    for (const auto& [f, vp] : at) {
+      const std::size_t network_vertex = vp.first;
+      const std::size_t t = s.insert_near(f, vp.second, reserved);
+      reserved.resize(s.vertex.size(), false);
+      reserved[t] = true;
+      // A network vertex pinned before is re-pinned (never one of the user's pairs).
+      bool users = false;
+      for (std::size_t k = 0; k < fixed.size(); ++k) {
+        if (fixed[k].network_vertex != network_vertex) continue;
+        if (k < pairs.size()) {
+          users = true;
+        } else {
+          fixed.erase(fixed.begin() + static_cast<std::ptrdiff_t>(k));
+          break;
+        }
+      }
+      if (users) continue;
+      Correspondence c;
+      c.template_vertex = t;
+      c.network_vertex = network_vertex;
+      fixed.push_back(c);
+    }
+    for (auto f : centroid_faces)
+      if (!at.count(f)) s.split_face(f);
+    return s.vertex.size() - before_count;
+  }
+
+  TriangleMesh& tm;
+  const Curve_network& network;
+  const std::vector<Correspondence>& pairs;
+  const Deform_options& options;
+  const std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
+  VPM vpm;
+  Deform_state<TriangleMesh, VPM> s;
+  Deformation_report report;
+  std::vector<Correspondence> fixed;  // kept from round to round: the user's, then those made for density and flips
+  std::vector<bool> used;             // by mesh vertex: on a face
+  std::size_t max_vertices = 0;
+  std::size_t refine_passes = 0, last_losers = SIZE_MAX;
+  Closest_point_assignment assignment;
+};
+
+/// deform_fine on `tm` itself: the mesh changes as the work goes (a cancel or a failure leaves it
+/// partly changed). For meshes the pipeline owns (a Stage_copy, fit's copy).
+template <typename TriangleMesh>
+Deformation_report deform_fine_impl(TriangleMesh& tm, const Curve_network& network,
+                                    const std::vector<Correspondence>& pairs, const Deform_options& options) {
+  return Thesis_fine_level<TriangleMesh>(tm, network, pairs, options).run();
 }
+
+/// The segments of `network` that the surface fine level keeps whole (does not cut at the mean
+/// edge length `h`): those with both ends near the border (nearer to it than half an edge more
+/// than to the surface, as in step 1). A curve along the border becomes the border arc (step 2),
+/// whatever the length of its segments.
+template <typename TriangleMesh, typename VPM>
+std::vector<bool> segments_along_border(const TriangleMesh& tm, const VPM& vpm, const Curve_network& network, double h) {
+  std::vector<Segment_3> border;
+  for (auto e : edges(tm))
+    if (is_border(e, tm)) border.emplace_back(get(vpm, source(e, tm)), get(vpm, target(e, tm)));
+  std::vector<bool> whole(network.number_of_segments(), false);
+  if (border.empty()) return whole;
+  using Primitive = CGAL::AABB_face_graph_triangle_primitive<TriangleMesh, VPM>;
+  using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+  std::unique_ptr<Tree> tree;
+  std::vector<int> near(network.number_of_vertices(), -1);  // unknown, no, yes
+  auto near_border = [&](std::size_t v) {
+    if (near[v] < 0) {
+      if (!tree) {
+        tree = std::make_unique<Tree>(faces(tm).first, faces(tm).second, tm, vpm);
+        tree->accelerate_distance_queries();
+      }
+      const Point_3& p = network.point(v);
+      const double reach = std::sqrt(tree->squared_distance(p)) + 0.5 * h;
+      near[v] = 0;
+      for (const Segment_3& b : border)
+        if (CGAL::squared_distance(b, p) <= reach * reach) {
+          near[v] = 1;
+          break;
+        }
+    }
+    return near[v] == 1;
+  };
+  for (std::size_t k = 0; k < whole.size(); ++k) {
+    const auto& sk = network.segments()[k];
+    whole[k] = CGAL::squared_distance(network.point(sk[0]), network.point(sk[1])) > 4 * h * h && near_border(sk[0]) &&
+               near_border(sk[1]);
+  }
+  return whole;
+}
+
+/// Steps 1-4 of the surface fine level (fine_on_surface) on the network with its long segments
+/// cut (`cut`, `cut_pairs`); the report in terms of the user's network.
+inline Deformation_report fine_on_cut_network(Work_mesh& tm, const Curve_network& network,
+                                              const std::vector<Correspondence>& pairs, const Resampled_network& cut,
+                                              const std::vector<Correspondence>& cut_pairs,
+                                              const Deform_options& options) {
+  if (cut.added == 0) return fine_on_surface(tm, network, pairs, options);
+  Deformation_report r = fine_on_surface(tm, cut.network, cut_pairs, options);
+  r.network_points_added = cut.added;
+  std::vector<std::size_t> mesh_of(network.number_of_vertices());
+  for (std::size_t v = 0; v < mesh_of.size(); ++v) mesh_of[v] = r.mesh_vertex_of_network_vertex[cut.vertex_of[v]];
+  r.mesh_vertex_of_network_vertex = std::move(mesh_of);
+  std::vector<std::size_t> missing;
+  for (std::size_t k : r.segments_not_embedded) missing.push_back(cut.segment_of[k]);
+  std::sort(missing.begin(), missing.end());
+  missing.erase(std::unique(missing.begin(), missing.end()), missing.end());
+  r.segments_not_embedded = std::move(missing);
+  r.segments_embedded = network.number_of_segments() - r.segments_not_embedded.size();
+  return r;
+}
+
+/// A mesh as points (through the point map, which may live outside the mesh) and triangles, to go
+/// back to. Rebuilt in place, vertices and faces in their order (assigning a Surface_mesh would
+/// leave the caller's property maps dangling); values of the caller's other properties on the
+/// mesh are not carried over.
+struct Mesh_snapshot {
+  std::vector<Point_3> points;
+  std::vector<std::array<std::size_t, 3>> triangles;
+
+  template <typename TriangleMesh, typename VPM>
+  static Mesh_snapshot of(const TriangleMesh& tm, const VPM& vpm) {
+    Mesh_snapshot shot;
+    for (auto v : vertices(tm)) {
+      const auto p = get(vpm, v);
+      shot.points.emplace_back(p.x(), p.y(), p.z());
+    }
+    auto index = get(CGAL::dynamic_vertex_property_t<std::size_t>(), tm);
+    std::size_t i = 0;
+    for (auto v : vertices(tm)) put(index, v, i++);
+    for (auto f : faces(tm)) shot.triangles.push_back(triangle_corners(f, tm, index));
+    return shot;
+  }
+  template <typename TriangleMesh, typename VPM>
+  void restore(TriangleMesh& tm, const VPM& vpm) const {
+    clear_mesh(tm);
+    using P = typename boost::property_traits<VPM>::value_type;
+    std::vector<typename boost::graph_traits<TriangleMesh>::vertex_descriptor> vertex;
+    for (const Point_3& p : points) {
+      vertex.push_back(add_vertex(tm));
+      put(vpm, vertex.back(), P(p.x(), p.y(), p.z()));
+    }
+    for (const auto& t : triangles)
+      if (CGAL::Euler::add_face(std::array{vertex[t[0]], vertex[t[1]], vertex[t[2]]}, tm) ==
+          boost::graph_traits<TriangleMesh>::null_face())
+        throw Numerical_error("deform: the mesh could not be rebuilt to run the fine level again");
+  }
+};
 
 /// deform_fine_on_surface on `tm` itself: the mesh changes as the work goes (a cancel or a failure leaves it
 /// partly changed). For meshes the pipeline owns (a Stage_copy, fit's copy).
@@ -277,97 +415,10 @@ Deformation_report deform_fine_on_surface_impl(TriangleMesh& tm, const Curve_net
   auto vpm = get_property_map(CGAL::vertex_point, tm);
   internal::check_pairs(pairs, num_vertices(tm), num_faces(tm), network);
   const double h = internal::mean_edge_length(tm, vpm);
-  std::vector<Segment_3> border;
-  for (auto e : edges(tm))
-    if (is_border(e, tm)) border.emplace_back(get(vpm, source(e, tm)), get(vpm, target(e, tm)));
-  // Segments with both ends near the border (nearer to it than half an edge more than to the
-  // surface, as in step 1) are not cut: a curve along the border becomes the border arc (step 2),
-  // whatever the length of its segments.
-  std::vector<bool> whole(network.number_of_segments(), false);
-  if (!border.empty()) {
-    using Primitive = CGAL::AABB_face_graph_triangle_primitive<TriangleMesh, decltype(vpm)>;
-    using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
-    std::unique_ptr<Tree> tree;
-    std::vector<int> near(network.number_of_vertices(), -1);  // unknown, no, yes
-    auto near_border = [&](std::size_t v) {
-      if (near[v] < 0) {
-        if (!tree) {
-          tree = std::make_unique<Tree>(faces(tm).first, faces(tm).second, tm, vpm);
-          tree->accelerate_distance_queries();
-        }
-        const Point_3& p = network.point(v);
-        const double reach = std::sqrt(tree->squared_distance(p)) + 0.5 * h;
-        near[v] = 0;
-        for (const Segment_3& b : border)
-          if (CGAL::squared_distance(b, p) <= reach * reach) {
-            near[v] = 1;
-            break;
-          }
-      }
-      return near[v] == 1;
-    };
-    for (std::size_t k = 0; k < whole.size(); ++k) {
-      const auto& sk = network.segments()[k];
-      whole[k] = CGAL::squared_distance(network.point(sk[0]), network.point(sk[1])) > 4 * h * h && near_border(sk[0]) &&
-                 near_border(sk[1]);
-    }
-  }
-  const internal::Resampled_network cut = internal::resample_long_segments(network, h, whole);
+  const internal::Resampled_network cut =
+      internal::resample_long_segments(network, h, segments_along_border(tm, vpm, network, h));
   std::vector<Correspondence> cut_pairs = pairs;
   for (Correspondence& c : cut_pairs) c.network_vertex = cut.vertex_of[c.network_vertex];
-  // Steps 1-4 on the cut network; the report in terms of the user's network.
-  auto run = [&] {
-    if (cut.added == 0) return internal::fine_on_surface(tm, network, pairs, options);
-    Deformation_report r = internal::fine_on_surface(tm, cut.network, cut_pairs, options);
-    r.network_points_added = cut.added;
-    std::vector<std::size_t> mesh_of(network.number_of_vertices());
-    for (std::size_t v = 0; v < mesh_of.size(); ++v) mesh_of[v] = r.mesh_vertex_of_network_vertex[cut.vertex_of[v]];
-    r.mesh_vertex_of_network_vertex = std::move(mesh_of);
-    std::vector<std::size_t> missing;
-    for (std::size_t k : r.segments_not_embedded) missing.push_back(cut.segment_of[k]);
-    std::sort(missing.begin(), missing.end());
-    missing.erase(std::unique(missing.begin(), missing.end()), missing.end());
-    r.segments_not_embedded = std::move(missing);
-    r.segments_embedded = network.number_of_segments() - r.segments_not_embedded.size();
-    return r;
-  };
-  // The mesh as points (through the point map, which may live outside the mesh) and triangles,
-  // to go back to. Rebuilt in place, vertices and faces in their order (assigning a Surface_mesh
-  // would leave the caller's property maps dangling); values of the caller's other properties on
-  // the mesh are not carried over.
-  struct Snapshot {
-    std::vector<Point_3> points;
-    std::vector<std::array<std::size_t, 3>> triangles;
-  };
-  auto points = [&] {
-    std::vector<Point_3> out;
-    for (auto v : vertices(tm)) {
-      const auto p = get(vpm, v);
-      out.emplace_back(p.x(), p.y(), p.z());
-    }
-    return out;
-  };
-  auto snapshot = [&] {
-    Snapshot shot{points(), {}};
-    auto index = get(CGAL::dynamic_vertex_property_t<std::size_t>(), tm);
-    std::size_t i = 0;
-    for (auto v : vertices(tm)) put(index, v, i++);
-    for (auto f : faces(tm)) shot.triangles.push_back(internal::triangle_corners(f, tm, index));
-    return shot;
-  };
-  auto restore = [&](const Snapshot& shot) {
-    internal::clear_mesh(tm);
-    using P = typename boost::property_traits<decltype(vpm)>::value_type;
-    std::vector<typename boost::graph_traits<TriangleMesh>::vertex_descriptor> vertex;
-    for (const Point_3& p : shot.points) {
-      vertex.push_back(add_vertex(tm));
-      put(vpm, vertex.back(), P(p.x(), p.y(), p.z()));
-    }
-    for (const auto& t : shot.triangles)
-      if (CGAL::Euler::add_face(std::array{vertex[t[0]], vertex[t[1]], vertex[t[2]]}, tm) ==
-          boost::graph_traits<TriangleMesh>::null_face())
-        throw Numerical_error("deform: the mesh could not be rebuilt to run the fine level again");
-  };
   auto defects = [](const Deformation_report& r) {
     return r.segments_not_embedded.size() + r.remaining_flips + r.remaining_folds;
   };
@@ -378,12 +429,12 @@ Deformation_report deform_fine_on_surface_impl(TriangleMesh& tm, const Curve_net
   // earlier on a tie), unless the last one fails with a reason.
   // A polyline far from the coarse surface is refused before any approach pulls the surface to it.
   internal::check_polylines_near(tm, vpm, network);
-  const Snapshot coarse = snapshot();
+  const Mesh_snapshot coarse = Mesh_snapshot::of(tm, vpm);
   std::optional<Deformation_report> best;
-  std::optional<Snapshot> best_mesh;
+  std::optional<Mesh_snapshot> best_mesh;
   std::size_t tried = 0;
   for (int start = 0; start < 3; ++start) {
-    if (tried > 0) restore(coarse);
+    if (tried > 0) coarse.restore(tm, vpm);
     internal::Approach_result approach;
     // Curves more than twice as dense as the template: no approach will give them room (step 2
     // refuses such inputs), and ICP would only move the template around.
@@ -393,7 +444,7 @@ Deformation_report deform_fine_on_surface_impl(TriangleMesh& tm, const Curve_net
     if (start < 2 && approach.scale == 0) continue;  // the approach made no motion: the same start as the last
     std::optional<Deformation_report> r;
     try {
-      r = run();
+      r = fine_on_cut_network(tm, network, pairs, cut, cut_pairs, options);
     } catch (const Cancelled&) {
       throw;  // the caller's cancel, not a failure of this start
     } catch (const Algorithm_failure&) {
@@ -411,10 +462,10 @@ Deformation_report deform_fine_on_surface_impl(TriangleMesh& tm, const Curve_net
       best = r;
       best_mesh.reset();
       if (defects(*r) == 0) return *best;
-      best_mesh = snapshot();
+      best_mesh = Mesh_snapshot::of(tm, vpm);
     }
   }
-  if (best_mesh) restore(*best_mesh);
+  if (best_mesh) best_mesh->restore(tm, vpm);
   return *best;
 }
 
