@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -46,6 +47,11 @@ struct Patch {
   std::vector<std::array<Eigen::Vector3d, 2>> plane;
   std::vector<std::vector<std::size_t>> neighbours;
   double fairness = 0;
+  // Where the patch sits: patch vertex -> vertex, and the frame of its coordinates.
+  std::vector<std::size_t> global;
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  double unit = 1;
+  std::ptrdiff_t variables = 0;
 
   Eigen::Vector3d position(std::size_t v, const Eigen::VectorXd& x) const {
     if (variable[v] < 0) return start[v];
@@ -108,29 +114,17 @@ struct Patch {
   }
 };
 
-}  // namespace
-
-std::vector<Point_3> untangle_faces(const std::vector<Point_3>& positions,
-                                    const std::vector<std::array<std::size_t, 3>>& faces,
-                                    const std::vector<Vector_3>& face_normal, const std::vector<bool>& free,
-                                    const std::vector<Vector_3>& vertex_normal, double fairness,
-                                    Untangle_report* report) {
+// The faces with a free corner, and the vertices they touch, renumbered; coordinates relative to
+// the patch's centroid in units of its mean edge length, so the energy's scale is the same
+// wherever the patch lies and whatever its size. None when no face has a free corner or the
+// patch has no extent.
+std::optional<Patch> make_patch(const std::vector<Point_3>& positions, const std::vector<std::array<std::size_t, 3>>& faces,
+                                const std::vector<Vector_3>& face_normal, const std::vector<bool>& free,
+                                const std::vector<Vector_3>& vertex_normal, double fairness, Untangle_report& r) {
   const std::size_t n = positions.size();
-  if (free.size() != n || vertex_normal.size() != n || face_normal.size() != faces.size())
-    throw Invalid_input("untangle: " + std::to_string(n) + " positions, " + std::to_string(free.size()) +
-                        " free flags, " + std::to_string(vertex_normal.size()) + " vertex normals, " +
-                        std::to_string(faces.size()) + " faces and " + std::to_string(face_normal.size()) +
-                        " face normals");
-  if (!(fairness >= 0) || !std::isfinite(fairness))
-    throw Invalid_input("untangle: the fairness weight must be finite and not negative");
-  Untangle_report r;
-  std::vector<Point_3> out = positions;
-
-  // The faces with a free corner, and the vertices they touch, renumbered; coordinates relative to
-  // the patch's centroid in units of its mean edge length, so the energy's scale is the same
-  // wherever the patch lies and whatever its size.
   Patch patch;
-  std::vector<std::size_t> local(n, SIZE_MAX), global;
+  std::vector<std::size_t> local(n, SIZE_MAX);
+  std::vector<std::size_t>& global = patch.global;
   std::vector<std::size_t> kept;
   for (std::size_t f = 0; f < faces.size(); ++f) {
     const auto& c = faces[f];
@@ -142,23 +136,17 @@ std::vector<Point_3> untangle_faces(const std::vector<Point_3>& positions,
     for (std::size_t v : c)
       if (local[v] == SIZE_MAX) local[v] = global.size(), global.push_back(v);
   }
-  if (kept.empty()) {
-    if (report) *report = r;
-    return out;
-  }
-  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  if (kept.empty()) return std::nullopt;
+  Eigen::Vector3d& centre = patch.centre;
   for (std::size_t v : global) centre += Eigen::Vector3d(positions[v].x(), positions[v].y(), positions[v].z());
   centre /= static_cast<double>(global.size());
   double edge_sum = 0;
   for (std::size_t f : kept)
     for (int k = 0; k < 3; ++k) edge_sum += std::sqrt(CGAL::squared_distance(positions[faces[f][k]], positions[faces[f][(k + 1) % 3]]));
-  const double unit = edge_sum / (3.0 * static_cast<double>(kept.size()));
-  if (!(unit > 0) || !std::isfinite(unit)) {
-    if (report) *report = r;
-    return out;
-  }
+  const double unit = patch.unit = edge_sum / (3.0 * static_cast<double>(kept.size()));
+  if (!(unit > 0) || !std::isfinite(unit)) return std::nullopt;
 
-  std::ptrdiff_t variables = 0;
+  std::ptrdiff_t& variables = patch.variables;
   for (std::size_t v : global) {
     patch.start.push_back((Eigen::Vector3d(positions[v].x(), positions[v].y(), positions[v].z()) - centre) / unit);
     patch.variable.push_back(free[v] ? variables : -1);
@@ -190,24 +178,24 @@ std::vector<Point_3> untangle_faces(const std::vector<Point_3>& positions,
     for (std::size_t f = 0; f < patch.corners.size(); ++f) area += std::abs(patch.jacobian(f, x).determinant()) / 2;
     area /= static_cast<double>(patch.corners.size());
   }
-  if (!(area > 0)) {
-    if (report) *report = r;
-    return out;
-  }
+  if (!(area > 0)) return std::nullopt;
   const double side = std::sqrt(4 * area / std::sqrt(3.0));
   Eigen::Matrix2d reference;
   reference << side, side / 2, 0, side * std::sqrt(3.0) / 2;
   patch.reference_inverse = reference.inverse();
+  return patch;
+}
 
-  // Continuation in ε (the paper's schedule): ε starts where the worst face's determinant is, and
-  // decreases as the energy does; it ends when no face is inverted and the energy settles.
+// Continuation in ε (the paper's schedule) from x: ε starts where the worst face's determinant
+// is, and decreases as the energy does; it ends when no face is inverted and the energy settles.
+void minimise(const Patch& patch, Eigen::VectorXd& x, Untangle_report& r) {
   double mindet = patch.min_det(x, &r.inverted_before);
   double eps = std::sqrt(1e-12 + 0.04 * std::pow(std::min(mindet, 0.0), 2));
   LBFGSpp::LBFGSParam<double> param;
   param.epsilon = 1e-8;
   param.epsilon_rel = 1e-8;
   param.max_iterations = 100;
-  Eigen::VectorXd grad(variables);
+  Eigen::VectorXd grad(patch.variables);
   // Bounded work: about 8e6 face evaluations in all (a second or two), whatever the patch.
   const std::size_t max_evaluations = std::max<std::size_t>(50, 8000000 / patch.corners.size());
   std::size_t evaluations = 0;
@@ -252,10 +240,33 @@ std::vector<Point_3> untangle_faces(const std::vector<Point_3>& positions,
   }
   patch.min_det(x, &r.inverted_after);
 
-  for (std::size_t i = 0; i < global.size(); ++i) {
-    if (patch.variable[i] < 0) continue;
-    const Eigen::Vector3d p = patch.position(i, x) * unit + centre;
-    out[global[i]] = Point_3(p.x(), p.y(), p.z());
+}
+
+}  // namespace
+
+std::vector<Point_3> untangle_faces(const std::vector<Point_3>& positions,
+                                    const std::vector<std::array<std::size_t, 3>>& faces,
+                                    const std::vector<Vector_3>& face_normal, const std::vector<bool>& free,
+                                    const std::vector<Vector_3>& vertex_normal, double fairness,
+                                    Untangle_report* report) {
+  const std::size_t n = positions.size();
+  if (free.size() != n || vertex_normal.size() != n || face_normal.size() != faces.size())
+    throw Invalid_input("untangle: " + std::to_string(n) + " positions, " + std::to_string(free.size()) +
+                        " free flags, " + std::to_string(vertex_normal.size()) + " vertex normals, " +
+                        std::to_string(faces.size()) + " faces and " + std::to_string(face_normal.size()) +
+                        " face normals");
+  if (!(fairness >= 0) || !std::isfinite(fairness))
+    throw Invalid_input("untangle: the fairness weight must be finite and not negative");
+  Untangle_report r;
+  std::vector<Point_3> out = positions;
+  if (const std::optional<Patch> patch = make_patch(positions, faces, face_normal, free, vertex_normal, fairness, r)) {
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(patch->variables);
+    minimise(*patch, x, r);
+    for (std::size_t i = 0; i < patch->global.size(); ++i) {
+      if (patch->variable[i] < 0) continue;
+      const Eigen::Vector3d p = patch->position(i, x) * patch->unit + patch->centre;
+      out[patch->global[i]] = Point_3(p.x(), p.y(), p.z());
+    }
   }
   if (report) *report = r;
   return out;
