@@ -166,7 +166,7 @@ row "special/directory-output" 1 -- fit $(in_args "$ex") --output "$sp/dir.off" 
 
 # 5. Late errors: output paths checked before any work (no progress line before the error).
 for c in "missing-dir:$sp/no/such/dir/x.off" "directory:$sp/dir.off" "long-name:$sp/$(printf 'n%.0s' $(seq 300)).off" \
-         "report-missing-dir:$sp/no/such/dir/x.json"; do
+         "report-missing-dir:$sp/no/such/dir/x.json" "proc:/proc/meshfit-x.off"; do
   name="${c%%:*}"; path="${c#*:}"
   args=(--output "$path")
   [[ "$name" == report-* ]] && args=(--output "$sp/c.off" --report "$path")

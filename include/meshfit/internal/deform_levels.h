@@ -71,7 +71,7 @@ Deformation_report deform_coarse_impl(TriangleMesh& tm, const Curve_network& net
   Deformation_report report;
   report.user_pairs = pairs.size();
   const Rbf_interpolant E =
-      Rbf_interpolant::fit(centres, values, kernel, normals, &report.coarse_fit, 0, open_facing);
+      Rbf_interpolant::fit(centres, values, kernel, normals, &report.coarse_fit, options.memory_limit, open_facing);
   internal::report_progress(progress, "deform", "coarse: moving the template", 1, 2);
   const std::vector<Point_3> before = s.positions();
   std::vector<Point_3> p;
@@ -97,6 +97,16 @@ Deformation_report deform_coarse_impl(TriangleMesh& tm, const Curve_network& net
   return report;
 }
 
+/// \throws Algorithm_failure when the thesis level's fine RBF, which with Curve_density::refine
+///         has every network vertex as a centre, would exceed the memory limit.
+inline void check_fine_rbf_memory(const Curve_network& network, const Deform_options& options) {
+  if (options.curve_density != Curve_density::refine) return;
+  const double n = static_cast<double>(network.number_of_vertices() + 4);
+  check_memory_estimate(2 * 8 * n * n, options.memory_limit, "deform",
+                        "the fine RBF through all " + std::to_string(network.number_of_vertices()) +
+                            " network vertices (a dense system of as many unknowns)");
+}
+
 /// deform_fine on `tm` itself: the mesh changes as the work goes (a cancel or a failure leaves it
 /// partly changed). For meshes the pipeline owns (a Stage_copy, fit's copy).
 template <typename TriangleMesh>
@@ -113,13 +123,9 @@ Deformation_report deform_fine_impl(TriangleMesh& tm, const Curve_network& netwo
   auto vpm = get_property_map(CGAL::vertex_point, tm);
   internal::Deform_state<TriangleMesh, decltype(vpm)> s(tm, vpm);
   internal::check_pairs(pairs, s.vertex.size(), num_faces(tm), network);
+  // From the counts, before the far-polyline check's closest-point queries (39 s on 5.8 M points).
+  check_fine_rbf_memory(network, options);
   internal::check_polylines_near(tm, vpm, network);
-  if (density == Curve_density::refine) {  // every network vertex will be a centre of the fine RBF
-    const double n = static_cast<double>(network.number_of_vertices() + 4);
-    check_memory_estimate(2 * 8 * n * n, memory_limit, "deform",
-                          "the fine RBF through all " + std::to_string(network.number_of_vertices()) +
-                              " network vertices (a dense system of as many unknowns)");
-  }
   Deformation_report report;
   report.fine_level = Fine_level::thesis;
   report.user_pairs = pairs.size();
@@ -440,6 +446,7 @@ Deformation_report deform_template_unscaled(TriangleMesh& tm, const Curve_networ
       ++subdivisions;
     }
   }
+  if (level == Fine_level::thesis && !coarse_only) check_fine_rbf_memory(network, options);  // before any work
   Deformation_report coarse = deform_coarse_impl(tm, network, pairs, options);
   coarse.template_subdivisions = subdivisions;
   if (coarse.orientation_reversed || coarse_only) return coarse;
