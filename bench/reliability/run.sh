@@ -131,6 +131,9 @@ fit "memory/dense70/fit-thesis-2G" 3 "$cases/dense70" --fine-level thesis --max-
 CHECK="grep -q 'memory' '$out/memory/dense70/fit-thesis-2G.stderr'"
 row "memory/dense70/estimate-named" "3" -- fit $(in_args "$cases/dense70") --fine-level thesis --max-memory 2G \
   --output "$out/dense70-2G.off" --quiet
+# Reading is estimated at ten times each input's size: the example's 233 kB template over 1M.
+CHECK="grep -q 'reading takes about 10 times' '$out/memory/read-estimate.stderr'"
+fit "memory/read-estimate" 3 "$ex" --max-memory 1M
 if [ "$big" = 1 ]; then
   # Peak memory under ten times the curve file's size (doc/design.md: no runaway memory), and the
   # wrong count found in the curve file (its line named), not elsewhere.
