@@ -28,7 +28,9 @@ namespace {
 Input_location location_of(const std::vector<Input_location>& where, std::size_t k) {
   return k < where.size() ? where[k] : Input_location{};
 }
-std::string polyline_name(std::size_t k) { return "polyline " + std::to_string(k); }
+// Numbered from 1 in input order, as its points are and as the stages name polylines ("polyline 5
+// (in file order)"); the message's location, when given, has the line.
+std::string polyline_name(std::size_t k) { return "polyline " + std::to_string(k + 1); }
 }  // namespace
 
 namespace {

@@ -110,7 +110,8 @@ TEST_CASE("coordinate range: the readers refuse meshes and networks outside it",
     meshfit::read_curve_network(curves);
     FAIL("no exception");
   } catch (const meshfit::Invalid_input& e) {
-    CHECK(std::string(e.what()).find("/c.polylines.txt:3: polyline 1, point 2 ") != std::string::npos);
+    // The second polyline, numbered from 1 like its points and like the stages' messages.
+    CHECK(std::string(e.what()).find("/c.polylines.txt:3: polyline 2, point 2 ") != std::string::npos);
   }
 }
 
