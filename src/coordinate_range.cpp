@@ -50,17 +50,15 @@ double unit_scale(const Bbox_3& box) {
 }
 
 Curve_network scaled(const Curve_network& network, double s) {
-  std::vector<Curve_network::Polyline> polylines;
-  polylines.reserve(network.polylines().size());
-  for (const auto& ids : network.polylines()) {
-    Curve_network::Polyline pl;
-    pl.reserve(ids.size());
-    for (std::size_t v : ids) pl.push_back(scaled(network.point(v), s));
-    polylines.push_back(std::move(pl));
-  }
-  // The merged points are rebuilt from the vertices, in the same order: the same vertices, segments
-  // and indices.
-  return Curve_network(polylines, network.relative_tolerance());
+  // Multiplying by a power of two is exact: the box, the tolerance and every point's position in
+  // the merge grid scale with it, so the merges, vertices, segments and grid cells stay as they
+  // are. A copy, not a network built again (2-3 s and a second merge grid for 1.7 M points).
+  Curve_network r = network;
+  for (Point_3& p : r.m_points) p = scaled(p, s);
+  const Bbox_3& b = network.m_bbox;
+  r.m_bbox = Bbox_3(b.xmin() * s, b.ymin() * s, b.zmin() * s, b.xmax() * s, b.ymax() * s, b.zmax() * s);
+  r.m_tolerance = network.m_tolerance * s;
+  return r;
 }
 
 }  // namespace internal

@@ -28,7 +28,9 @@ namespace {
 Input_location location_of(const std::vector<Input_location>& where, std::size_t k) {
   return k < where.size() ? where[k] : Input_location{};
 }
-std::string polyline_name(std::size_t k) { return "polyline " + std::to_string(k); }
+// Numbered from 1 in input order, as its points are and as the stages name polylines ("polyline 5
+// (in file order)"); the message's location, when given, has the line.
+std::string polyline_name(std::size_t k) { return "polyline " + std::to_string(k + 1); }
 }  // namespace
 
 namespace {
@@ -467,7 +469,14 @@ Resampled_network resample_long_segments(const Curve_network& network, double sp
     }
     lines.push_back(std::move(line));
   }
-  Curve_network dense(lines, network.relative_tolerance());
+  // Far from the origin (the example translated by 1e15) the added points round onto their
+  // neighbours, and the network refuses the zero-length segments: that is not the user's input.
+  Curve_network dense;
+  try {
+    dense = Curve_network(lines, network.relative_tolerance());
+  } catch (const Invalid_input&) {
+    return resample_long_segments(network, 0);
+  }
   // Which original vertex or segment each vertex of the dense network comes from.
   std::vector<std::size_t> origin(dense.number_of_vertices(), SIZE_MAX), on_segment(dense.number_of_vertices(), SIZE_MAX);
   bool distinct = dense.number_of_vertices() == nv + r.added;

@@ -1,5 +1,6 @@
 #include <meshfit/displacement.h>
 #include <meshfit/exceptions.h>
+#include <meshfit/internal/format_number.h>
 
 #include "fp_traps.h"
 
@@ -166,7 +167,7 @@ std::vector<Vector_3> fit_displacements(const Vertex_adjacency& adj, const std::
   internal::Fp_trap_scope traps;
   const std::size_t n = adj.size();
   if (!std::isfinite(stiffness) || !(stiffness > 0))
-    throw Invalid_input("displacement: the stiffness must be positive, not " + std::to_string(stiffness));
+    throw Invalid_input("displacement: the stiffness must be positive, not " + internal::format_number(stiffness));
   Eigen::VectorXd inverse_degree;
   const Sparse K = graph_laplacian(adj, inverse_degree);
   const auto N = static_cast<Eigen::Index>(n);

@@ -32,6 +32,13 @@ const char* kind_of(fs::file_type t) {
   }
 }
 
+/// The mkstemp pattern of the temporary file written beside `target` and renamed onto it.
+std::string temporary_name(const fs::path& target) {
+  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  // The temporary name does not grow with the output's, which may be as long as the system allows.
+  return (dir / ("." + target.filename().string().substr(0, 64) + ".tmp-XXXXXX")).string();
+}
+
 }  // namespace
 
 namespace internal {
@@ -60,6 +67,11 @@ void check_writable(const std::string& path) {
   const std::string name = target.filename().string();
   if (name.empty() || name == "." || name == "..")
     throw Invalid_input(where, "names a directory, not a file");
+  // Before the directory is looked at: a path over PATH_MAX makes every look-up fail as if the
+  // directory did not exist.
+  if (target.string().size() >= PATH_MAX)
+    throw Invalid_input(where, "the path is " + std::to_string(target.string().size()) + " bytes long; at most " +
+                                   std::to_string(PATH_MAX - 1));
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
   const fs::file_status dst = fs::status(dir, ec);
   if (!fs::exists(dst)) throw Invalid_input(where, "the directory '" + dir.string() + "' does not exist");
@@ -69,11 +81,15 @@ void check_writable(const std::string& path) {
   if (name.size() > static_cast<std::size_t>(name_max))
     throw Invalid_input(where, "the file name is " + std::to_string(name.size()) + " bytes long; at most " +
                                    std::to_string(name_max) + " here");
-  if (target.string().size() >= PATH_MAX)
-    throw Invalid_input(where, "the path is " + std::to_string(target.string().size()) + " bytes long; at most " +
-                                   std::to_string(PATH_MAX - 1));
   if (::access(dir.c_str(), W_OK | X_OK) != 0)
     throw Invalid_input(where, "cannot write in the directory '" + dir.string() + "': " + std::strerror(errno));
+  // Some directories pass access() and still refuse new files (/proc): create the temporary file
+  // the write would, now, before any work.
+  std::string tmp = temporary_name(target);
+  const int fd = ::mkstemp(tmp.data());
+  if (fd < 0) throw Invalid_input(where, std::string("cannot create the output file: ") + std::strerror(errno));
+  ::close(fd);
+  std::remove(tmp.c_str());
 }
 
 }  // namespace internal
@@ -103,9 +119,7 @@ void write_file_atomically(const std::string& path, const std::function<void(std
   check_writable(path);
   // A symbolic link is followed: its target is replaced (atomically), the link stays.
   const fs::path target = write_target(path);
-  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  // The temporary name does not grow with the output's, which may be as long as the system allows.
-  std::string tmp = (dir / ("." + target.filename().string().substr(0, 64) + ".tmp-XXXXXX")).string();
+  std::string tmp = temporary_name(target);
   const int fd = ::mkstemp(tmp.data());
   if (fd < 0) throw Invalid_input(where, std::string("cannot create the output file: ") + std::strerror(errno));
   // mkstemp creates the file private to its owner: give it the replaced file's permissions, or

@@ -128,6 +128,8 @@ TEST_CASE("displacement: fit_displacements leaves unconstrained parts still and 
   CHECK(std::sqrt(d[3].squared_length()) < 1e-12);
   CHECK_THROWS_AS(meshfit::fit_displacements(a, c, 0), meshfit::Invalid_input);
   CHECK_THROWS_AS(meshfit::fit_displacements(a, c, std::nan("")), meshfit::Invalid_input);
+  // With significant digits, not std::to_string's "-0.000000".
+  CHECK_THROWS_WITH(meshfit::fit_displacements(a, c, -1e-9), Catch::Contains("not -1e-09"));
   c.push_back({{0, 4, 1}, {0.2, 0.3, 0.5}, Vector_3(0, 0, 0), 1});
   CHECK_THROWS_AS(meshfit::fit_displacements(a, c, 1), meshfit::Invalid_input);
   c.back() = {{0, 1, 1}, {0.2, 0.3, 0.5}, Vector_3(std::nan(""), 0, 0), 1};

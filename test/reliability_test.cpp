@@ -6,19 +6,24 @@
 #include <meshfit/correspondence.h>
 #include <meshfit/fit.h>
 #include <meshfit/internal/format_number.h>
+#include <meshfit/internal/resample_network.h>
 #include <meshfit/io.h>
 #include <meshfit/memory_limit.h>
 #include <meshfit/rbf.h>
 
 #include <CGAL/Surface_mesh.h>
 
+#include <nlohmann/json.hpp>
+
 #include "test_helpers.h"
 
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <climits>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <optional>
 
 using Mesh = CGAL::Surface_mesh<meshfit::Point_3>;
@@ -105,7 +110,8 @@ TEST_CASE("coordinate range: the readers refuse meshes and networks outside it",
     meshfit::read_curve_network(curves);
     FAIL("no exception");
   } catch (const meshfit::Invalid_input& e) {
-    CHECK(std::string(e.what()).find("/c.polylines.txt:3: polyline 1, point 2 ") != std::string::npos);
+    // The second polyline, numbered from 1 like its points and like the stages' messages.
+    CHECK(std::string(e.what()).find("/c.polylines.txt:3: polyline 2, point 2 ") != std::string::npos);
   }
 }
 
@@ -217,6 +223,52 @@ TEST_CASE("far curve points: a segment that leaves the surface is refused at onc
   }
 }
 
+TEST_CASE("far from the origin: points added on long segments that round onto their ends cut nothing",
+          "[coordinate_range][deform]") {
+  // At x = 2^52 the spacing of doubles is 1: the points added on a segment of length 1 round onto
+  // its ends. The dense network refused the zero-length segments as invalid input ("polyline 0:
+  // points 1 and 2 coincide"), which the fit reported as exit 1 on the example translated by 1e15.
+  const double x = std::ldexp(1.0, 52);
+  const meshfit::Curve_network network(
+      std::vector<meshfit::Curve_network::Polyline>{{Point_3(x, 0, 0), Point_3(x + 1, 0, 0), Point_3(x + 1, 1, 0)}});
+  const meshfit::internal::Resampled_network r = meshfit::internal::resample_long_segments(network, 0.1);
+  CHECK(r.added == 0);
+  CHECK(r.network.number_of_vertices() == 3);
+  CHECK(r.segment_of == std::vector<std::size_t>{0, 1});
+}
+
+TEST_CASE("far from the origin: fit and deform end with exit 0 or 3, not a false invalid input", "[cli][coordinate_range]") {
+  // The example translated by 1e15 in x: its x coordinates are multiples of 1/8, some template
+  // faces have no area. fit said "polyline 0: points 36 and 37 coincide" (the resampled network),
+  // then "untangle: face 320 has a zero normal" (the ICP approach), both exit 1 for valid input.
+  Temp_dir dir;
+  const std::string d = MESHFIT_EXAMPLE_DATA_DIR;
+  const auto moved = [](const Point_3& p) { return Point_3(p.x() + 1e15, p.y(), p.z()); };
+  meshfit::Mesh_data t = meshfit::read_mesh_data(d + "/template.off");
+  for (Point_3& p : t.points) p = moved(p);
+  meshfit::write_mesh_data(dir.file("t.off"), t);
+  const meshfit::Curve_network network = meshfit::read_curve_network(d + "/curves.polylines.txt");
+  std::vector<meshfit::Curve_network::Polyline> lines;
+  for (const auto& ids : network.polylines()) {
+    lines.emplace_back();
+    for (std::size_t v : ids) lines.back().push_back(moved(network.point(v)));
+  }
+  meshfit::write_curve_network(dir.file("c.polylines.txt"), meshfit::Curve_network(lines));
+  std::ofstream pairs(dir.file("p.txt"));
+  pairs.precision(17);
+  for (const meshfit::Correspondence& c : meshfit::read_correspondences(d + "/pairs.txt", network)) {
+    const Point_3 p = moved(network.point(c.network_vertex));
+    pairs << c.template_vertex << ' ' << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
+  }
+  pairs.close();
+  for (const std::string command : {"fit", "deform"}) {
+    const Run_result r =
+        run(dir, command + " --quiet --template t.off --curves c.polylines.txt --correspondences p.txt --output o.off");
+    INFO(command << ": " << r.err);
+    CHECK((r.status == 0 || r.status == 3));
+  }
+}
+
 TEST_CASE("write paths: special files are refused and left alone, a symlink's target is replaced",
           "[io][write]") {
   Temp_dir dir;
@@ -231,6 +283,12 @@ TEST_CASE("write paths: special files are refused and left alone, a symlink's ta
   CHECK(std::filesystem::is_directory(folder));
   CHECK_THROWS_AS(meshfit::check_output_path(dir.file("no/such/x.off"), {}), meshfit::Invalid_input);
   CHECK_THROWS_AS(meshfit::check_output_path(dir.file(std::string(300, 'n') + ".off"), {}), meshfit::Invalid_input);
+  // A directory that passes access() but takes no new file: refused up front, not after the run.
+  CHECK_THROWS_WITH(meshfit::check_output_path("/proc/x.off", {}), Catch::Contains("cannot create the output file"));
+  // A path over PATH_MAX in an existing directory: its length is the problem, not the directory.
+  std::string deep = dir.file("");
+  while (deep.size() <= PATH_MAX) deep += "./";
+  CHECK_THROWS_WITH(meshfit::check_output_path(deep + "x.off", {}), Catch::Contains("bytes long"));
   // A symbolic link: its target gets the mesh, the link stays a link.
   const std::string target = dir.write("target.off", "old\n");
   const std::string link = dir.file("link.off");
@@ -259,6 +317,86 @@ TEST_CASE("memory limit: a dense RBF over the limit is refused before it is allo
   }
   CHECK_NOTHROW(meshfit::Rbf_interpolant::fit(c, v, meshfit::Rbf_kernel::linear, {}, nullptr, 64 * 1024));
   CHECK(meshfit::default_memory_limit() > 0);
+  // At most 2 GiB, whatever the RAM: what is refused does not depend on the machine.
+  CHECK(meshfit::default_memory_limit() <= std::size_t(2) << 30);
+}
+
+TEST_CASE("memory limit: the coarse level's dense RBF is under the limit too", "[rbf][memory][deform]") {
+  // The coarse RBF through 8 002 pairs took 1.5 GB with --max-memory 512M (it used the default).
+  Inputs in = example();
+  // 8 pairs: a system of about 12×12, twice: some kB.
+  CHECK_THROWS_WITH(meshfit::deform_template(in.tm, in.network, in.pairs,
+                                             meshfit::parameters::coarse_only(true).memory_limit(std::size_t(1024))),
+                    Catch::Contains("the RBF's dense"));
+  CHECK_NOTHROW(meshfit::deform_template(in.tm, in.network, in.pairs,
+                                         meshfit::parameters::coarse_only(true).memory_limit(std::size_t(1) << 20)));
+}
+
+TEST_CASE("memory limit: the thesis level's fine RBF is refused from the counts, before the coarse level",
+          "[rbf][memory][deform]") {
+  // The 5.8 M-point line was refused ("needs about 538 TB") only after 39 s of coarse level and
+  // closest-point queries. The example's fine RBF through its 210 network vertices: about 730 kB.
+  Inputs in = example();
+  std::vector<std::string> steps;
+  const meshfit::Progress_callback record = [&](const meshfit::Progress_step& s) {
+    steps.push_back(s.step);
+    return true;
+  };
+  CHECK_THROWS_WITH(meshfit::deform_template(in.tm, in.network, in.pairs,
+                                             meshfit::parameters::fine_level(meshfit::Fine_level::thesis)
+                                                 .memory_limit(std::size_t(100) << 10)
+                                                 .progress(record)),
+                    Catch::Contains("the fine RBF through all 210 network vertices"));
+  for (const std::string& step : steps) CHECK(step.find("coarse") == std::string::npos);
+}
+
+TEST_CASE("memory limit: fit and deform refuse an input file whose reading would exceed it", "[cli][memory]") {
+  // A 57 MB polyline peaked at 590 MB with --max-memory 100M. The example's template is 233 kB.
+  Temp_dir dir;
+  const std::string d = MESHFIT_EXAMPLE_DATA_DIR;
+  const std::string args = " --template " + q(d + "/template.off") + " --curves " + q(d + "/curves.polylines.txt") +
+                           " --correspondences " + q(d + "/pairs.txt") + " --output o.off --report r.json --quiet";
+  for (const std::string command : {"fit", "deform"}) {
+    const Run_result r = run(dir, command + args + " --max-memory 1M");
+    INFO(r.err);
+    CHECK(r.status == 3);
+    CHECK(r.err.find("the input file '" + d + "/template.off' (233 kB") != std::string::npos);
+    const nlohmann::json report = nlohmann::json::parse(read_text(dir.file("r.json")));
+    CHECK(report["completed"] == false);
+    CHECK(report["stage"] == "read");
+    CHECK_FALSE(std::filesystem::exists(dir.file("o.off")));
+  }
+  CHECK(run(dir, "deform" + args + " --max-memory 10M").status == 0);
+}
+
+TEST_CASE("unused vertices: smooth --curves matches the network to the surface, not to unused copies",
+          "[cli][smooth]") {
+  // deform's output with every vertex repeated once, the copies on no face: the network was
+  // matched to the copies ("220 of 220 network segments are not mesh edges", no curve edge held).
+  Temp_dir dir;
+  const std::string d = MESHFIT_EXAMPLE_DATA_DIR;
+  REQUIRE(run(dir, "deform --quiet --template " + q(d + "/template.off") + " --curves " + q(d + "/curves.polylines.txt") +
+                       " --correspondences " + q(d + "/pairs.txt") + " --output d.off")
+              .status == 0);
+  meshfit::Mesh_data m = meshfit::read_mesh_data(dir.file("d.off"));
+  const std::size_t n = m.points.size();
+  for (std::size_t i = 0; i < n; ++i) m.points.push_back(m.points[i]);
+  meshfit::write_mesh_data(dir.file("copies.off"), m);
+  // The same counts as on deform's output itself (whose segments are not all edges yet).
+  auto smooth_counts = [&](const std::string& mesh) {
+    const Run_result r = run(dir, "smooth --quiet --template " + mesh + " --curves " + q(d + "/curves.polylines.txt") +
+                                      " --output s.off --report s.json");
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    return nlohmann::json::parse(read_text(dir.file("s.json")))["counts"];
+  };
+  const nlohmann::json plain = smooth_counts("d.off"), copies = smooth_counts("copies.off");
+  CHECK(plain["network_segments_on_mesh"] > 0);
+  CHECK(plain["curve_edges"] > 0);
+  for (const char* key : {"network_vertices_on_mesh", "network_segments_on_mesh", "curve_edges"}) {
+    INFO(key);
+    CHECK(copies[key] == plain[key]);
+  }
 }
 
 TEST_CASE("unused vertices: no closest-point candidates, and the thesis level fits a template with copies",

@@ -131,6 +131,9 @@ fit "memory/dense70/fit-thesis-2G" 3 "$cases/dense70" --fine-level thesis --max-
 CHECK="grep -q 'memory' '$out/memory/dense70/fit-thesis-2G.stderr'"
 row "memory/dense70/estimate-named" "3" -- fit $(in_args "$cases/dense70") --fine-level thesis --max-memory 2G \
   --output "$out/dense70-2G.off" --quiet
+# Reading is estimated at ten times each input's size: the example's 233 kB template over 1M.
+CHECK="grep -q 'reading takes about 10 times' '$out/memory/read-estimate.stderr'"
+fit "memory/read-estimate" 3 "$ex" --max-memory 1M
 if [ "$big" = 1 ]; then
   # Peak memory under ten times the curve file's size (doc/design.md: no runaway memory), and the
   # wrong count found in the curve file (its line named), not elsewhere.
@@ -166,7 +169,7 @@ row "special/directory-output" 1 -- fit $(in_args "$ex") --output "$sp/dir.off" 
 
 # 5. Late errors: output paths checked before any work (no progress line before the error).
 for c in "missing-dir:$sp/no/such/dir/x.off" "directory:$sp/dir.off" "long-name:$sp/$(printf 'n%.0s' $(seq 300)).off" \
-         "report-missing-dir:$sp/no/such/dir/x.json"; do
+         "report-missing-dir:$sp/no/such/dir/x.json" "proc:/proc/meshfit-x.off"; do
   name="${c%%:*}"; path="${c#*:}"
   args=(--output "$path")
   [[ "$name" == report-* ]] && args=(--output "$sp/c.off" --report "$path")

@@ -19,6 +19,11 @@ namespace meshfit {
 /// The default merge tolerance, relative to the diagonal of the network's bounding box.
 constexpr double default_merge_tolerance = 1e-9;
 
+class Curve_network;
+namespace internal {
+Curve_network scaled(const Curve_network& network, double s);  // (internal/unit_scale.h)
+}
+
 /// A network of polylines. Points closer than `tolerance()` (the relative merge tolerance times
 /// the bounding-box diagonal) are one network vertex: the first point seen (in file order) is the
 /// vertex's position and later points within the tolerance of it are merged into it. Segments
@@ -99,6 +104,7 @@ class Curve_network {
   std::optional<std::size_t> find_vertex(const Point_3& p) const;
 
  private:
+  friend Curve_network internal::scaled(const Curve_network& network, double s);
   std::vector<Point_3> m_points;
   std::vector<Segment> m_segments;
   std::vector<std::vector<std::size_t>> m_incident;

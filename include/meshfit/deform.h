@@ -341,10 +341,10 @@ Deformation_report deform_coarse(TriangleMesh& tm, const Curve_network& network,
 ///     \cgalParamExtra{A negative value throws meshfit::Invalid_input.}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{memory_limit}
-///     \cgalParamDescription{the most bytes the dense RBF system of the fine level (Fine_level::thesis) may take;
+///     \cgalParamDescription{the most bytes a dense RBF system (the coarse level's, through the pairs, and the thesis fine level's) may take;
 ///       a larger system is refused with meshfit::Algorithm_failure before it is allocated}
 ///     \cgalParamType{`std::size_t`}
-///     \cgalParamDefault{`0`, which means meshfit::default_memory_limit() (an eighth of the physical memory)}
+///     \cgalParamDefault{`0`, which means meshfit::default_memory_limit() (an eighth of the physical memory, at most 2 GiB)}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{progress}
 ///     \cgalParamDescription{a callback called at each step with a meshfit::Progress_step (stage `"deform"`)}
@@ -535,10 +535,10 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
 ///     \cgalParamExtra{A negative value throws meshfit::Invalid_input.}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{memory_limit}
-///     \cgalParamDescription{the most bytes the dense RBF system of the fine level (Fine_level::thesis) may take;
+///     \cgalParamDescription{the most bytes a dense RBF system (the coarse level's, through the pairs, and the thesis fine level's) may take;
 ///       a larger system is refused with meshfit::Algorithm_failure before it is allocated}
 ///     \cgalParamType{`std::size_t`}
-///     \cgalParamDefault{`0`, which means meshfit::default_memory_limit() (an eighth of the physical memory)}
+///     \cgalParamDefault{`0`, which means meshfit::default_memory_limit() (an eighth of the physical memory, at most 2 GiB)}
 ///     \cgalParamExtra{Read by the fine level `Fine_level::thesis` only.}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{progress}

@@ -254,10 +254,10 @@ void fit_work(const Mesh_data& template_data, const Curve_network& network, cons
 ///     \cgalParamExtra{A negative value throws meshfit::Invalid_input.}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{memory_limit}
-///     \cgalParamDescription{the most bytes the dense RBF system of the fine level (Fine_level::thesis) may take;
+///     \cgalParamDescription{the most bytes a dense RBF system (the coarse level's, through the pairs, and the thesis fine level's) may take;
 ///       a larger system is refused with meshfit::Algorithm_failure before it is allocated}
 ///     \cgalParamType{`std::size_t`}
-///     \cgalParamDefault{`0`, which means meshfit::default_memory_limit() (an eighth of the physical memory)}
+///     \cgalParamDefault{`0`, which means meshfit::default_memory_limit() (an eighth of the physical memory, at most 2 GiB)}
 ///     \cgalParamExtra{Read by the fine level `Fine_level::thesis` only.}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{number_of_iterations}

@@ -1,5 +1,6 @@
-// meshfit: a bound on the largest allocations (the dense RBF system of the thesis fine level), so
-// that an input too large for the machine is refused with an estimate instead of being killed.
+// meshfit: a bound on the largest allocations (the dense RBF systems; the command line also bounds
+// reading its inputs), so that an input too large for the machine is refused with an estimate
+// instead of being killed.
 #ifndef MESHFIT_MEMORY_LIMIT_H
 #define MESHFIT_MEMORY_LIMIT_H
 
@@ -8,8 +9,8 @@
 
 namespace meshfit {
 
-/// The default of the `memory_limit` named parameter: an eighth of the machine's physical memory
-/// (2 GiB when it cannot be determined).
+/// The default of the `memory_limit` named parameter: an eighth of the machine's physical memory,
+/// at most 2 GiB (2 GiB when it cannot be determined).
 std::size_t default_memory_limit();
 
 /// "3.8 GB" (decimal units, three significant digits).

@@ -30,7 +30,7 @@
 /// | `laplacian_iterations` | integer: smooth_fitted_mesh's 2nd phase | the rest (80) | smooth_fitted_mesh, fit_template_to_curves |
 /// | `check_self_intersections` | `bool`: fit's final verification | `true` | fit_template_to_curves |
 /// | `fine_level` | meshfit::Fine_level (deform.h) | `Fine_level::surface` | deform_template, fit_template_to_curves |
-/// | `memory_limit` | `std::size_t`, bytes (memory_limit.h) | default_memory_limit(): RAM / 8 (also when 0) | deform_fine (so deform_template and fit_template_to_curves with `Fine_level::thesis`) |
+/// | `memory_limit` | `std::size_t`, bytes (memory_limit.h) | default_memory_limit(): RAM / 8, at most 2 GiB (also when 0) | the coarse level's RBF and deform_fine's (so deform_coarse, deform_template and fit_template_to_curves) |
 /// | `flip_prevention_rounds` | integer ≥ 0: the most rounds of flip prevention (thesis level) or untangling (surface level) | 10 | deform_fine, deform_fine_on_surface, deform_template, fit_template_to_curves |
 ///
 /// CGAL parameters meshfit reads: `vertex_point_map` (every function over a mesh);

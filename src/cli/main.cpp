@@ -5,6 +5,7 @@
 #include <meshfit/exceptions.h>
 #include <meshfit/fit.h>
 #include <meshfit/io.h>
+#include <meshfit/memory_limit.h>
 #include <meshfit/partition.h>
 #include <meshfit/smooth.h>
 #include <meshfit/threads.h>
@@ -97,8 +98,9 @@ const Option_spec option_specs[] = {
     {"--fine-level", "L", "surface (default: embed the curves in the coarse surface, then move them into place with a "
                           "thin-plate displacement) or thesis (nearest-vertex RBF, subdivision)"},
     {"--max-rounds", "N", "flip prevention (thesis) or untangling (surface) rounds at most (default 10)"},
-    {"--max-memory", "SIZE", "refuse (exit 3, with the estimate) work whose largest allocation, the thesis level's "
-                             "dense RBF system, would exceed SIZE (2G, 512M; default RAM / 8)"},
+    {"--max-memory", "SIZE", "refuse (exit 3, with the estimate) work whose largest allocation, a dense RBF "
+                             "system or reading an input (10 times its size), would exceed SIZE (2G, 512M; "
+                             "default RAM / 8, at most 2G)"},
     {"--iterations", "N", "smoothing iterations in all (default 100: a fifth mean curvature, the rest Laplacian)"},
     {"--mc-iterations", "N", "iterations of the modified mean-curvature flow"},
     {"--laplacian-iterations", "N", "iterations of the modified Laplacian flow"},
@@ -769,9 +771,24 @@ struct Fit_inputs {
   double read_seconds = 0;
 };
 
+/// Reading a file takes several times its size in memory (the text, the points, the merge grid:
+/// a 57 MB polyline peaked at 10 times): like the dense RBF, refused before it is read when that
+/// would exceed --max-memory.
+void check_reading_memory(const std::string& path, std::size_t memory_limit) {
+  std::error_code ec;
+  const double size = static_cast<double>(std::filesystem::file_size(path, ec));
+  if (!ec)
+    meshfit::check_memory_estimate(10 * size, memory_limit, "read",
+                                   "the input file '" + path + "' (" + meshfit::format_bytes(size) +
+                                       "; reading takes about 10 times its size)");
+}
+
 void read_fit_inputs(const Command_line& cl, Fit_inputs& in) {
   const std::string& template_path = cl.values.at("--template");
   const auto t0 = std::chrono::steady_clock::now();
+  const std::size_t memory_limit = deform_options(cl).memory_limit;
+  for (const char* input : {"--template", "--curves", "--correspondences"})
+    check_reading_memory(cl.values.at(input), memory_limit);
   meshfit::Mesh_read_report read;
   in.template_data = meshfit::read_mesh_data(template_path, &read);
   meshfit::build_triangle_mesh(in.template_data, in.tm);
@@ -1016,8 +1033,9 @@ int run_smooth(const Command_line& cl) {
     network_vertices = network.number_of_vertices();
     segments = network.number_of_segments();
     std::vector<Mesh::Vertex_index> on(network_vertices, Mesh::null_vertex());
+    // A vertex of no face (an unused copy) holds no curve: the network is matched to the surface.
     for (auto v : tm.vertices())
-      if (const auto nv = network.find_vertex(tm.point(v))) {
+      if (const auto nv = tm.is_isolated(v) ? std::nullopt : network.find_vertex(tm.point(v))) {
         if (on[*nv] == Mesh::null_vertex()) ++matched_vertices;
         on[*nv] = v;
         pinned[v] = true;

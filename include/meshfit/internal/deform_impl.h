@@ -582,6 +582,10 @@ Approach_result approach_curves_icp(TriangleMesh& tm, const VPM& vpm, const Curv
       face_normal.push_back(CGAL::cross_product(before[c[1]] - before[c[0]], before[c[2]] - before[c[0]]));
       for (std::size_t k : c) vertex_normal[k] = vertex_normal[k] + face_normal.back();
     }
+    // A face of no area has no normal to judge it by (untangle_faces refuses it): the approach
+    // ends. (The example translated by 1e15, whose x coordinates are multiples of 1/8, has such.)
+    if (std::any_of(face_normal.begin(), face_normal.end(), [](const Vector_3& v) { return v == CGAL::NULL_VECTOR; }))
+      break;
     // The faces turned over, then those beside a folded edge; `folds` gets the folded edges as the
     // pairs of faces (f, g) beside them.
     using Fold = std::array<std::size_t, 2>;

@@ -71,7 +71,7 @@ Deformation_report deform_coarse_impl(TriangleMesh& tm, const Curve_network& net
   Deformation_report report;
   report.user_pairs = pairs.size();
   const Rbf_interpolant E =
-      Rbf_interpolant::fit(centres, values, kernel, normals, &report.coarse_fit, 0, open_facing);
+      Rbf_interpolant::fit(centres, values, kernel, normals, &report.coarse_fit, options.memory_limit, open_facing);
   internal::report_progress(progress, "deform", "coarse: moving the template", 1, 2);
   const std::vector<Point_3> before = s.positions();
   std::vector<Point_3> p;
@@ -95,6 +95,16 @@ Deformation_report deform_coarse_impl(TriangleMesh& tm, const Curve_network& net
   report.mesh_vertex_of_network_vertex.assign(network.number_of_vertices(), Closest_point_assignment::unassigned);
   for (const Correspondence& c : pairs) report.mesh_vertex_of_network_vertex[c.network_vertex] = c.template_vertex;
   return report;
+}
+
+/// \throws Algorithm_failure when the thesis level's fine RBF, which with Curve_density::refine
+///         has every network vertex as a centre, would exceed the memory limit.
+inline void check_fine_rbf_memory(const Curve_network& network, const Deform_options& options) {
+  if (options.curve_density != Curve_density::refine) return;
+  const double n = static_cast<double>(network.number_of_vertices() + 4);
+  check_memory_estimate(2 * 8 * n * n, options.memory_limit, "deform",
+                        "the fine RBF through all " + std::to_string(network.number_of_vertices()) +
+                            " network vertices (a dense system of as many unknowns)");
 }
 
 /// The thesis's fine level (deform_fine) on a mesh: closest-point pairs for the network vertices,
@@ -156,13 +166,9 @@ class Thesis_fine_level {
 
   void check_inputs() const {
     check_pairs(pairs, s.vertex.size(), num_faces(tm), network);
+    // From the counts, before the far-polyline check's closest-point queries (39 s on 5.8 M points).
+    check_fine_rbf_memory(network, options);
     check_polylines_near(tm, vpm, network);
-    if (options.curve_density == Curve_density::refine) {  // every network vertex will be a centre of the fine RBF
-      const double n = static_cast<double>(network.number_of_vertices() + 4);
-      check_memory_estimate(2 * 8 * n * n, options.memory_limit, "deform",
-                            "the fine RBF through all " + std::to_string(network.number_of_vertices()) +
-                                " network vertices (a dense system of as many unknowns)");
-    }
   }
 
   // Density refinement: network vertices that lost their nearest template vertex to another get
@@ -491,6 +497,7 @@ Deformation_report deform_template_unscaled(TriangleMesh& tm, const Curve_networ
       ++subdivisions;
     }
   }
+  if (level == Fine_level::thesis && !coarse_only) check_fine_rbf_memory(network, options);  // before any work
   Deformation_report coarse = deform_coarse_impl(tm, network, pairs, options);
   coarse.template_subdivisions = subdivisions;
   if (coarse.orientation_reversed || coarse_only) return coarse;

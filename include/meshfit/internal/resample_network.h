@@ -22,7 +22,7 @@ struct Resampled_network {
 /// those with `whole[k]` (when `whole` is not empty); the added points lie on the segment (within
 /// rounding). Polylines keep their order, so polyline
 /// numbers in messages still name the user's. When an added point would merge with a network
-/// vertex (curves passing within the merge tolerance), nothing is cut.
+/// vertex (curves passing within the merge tolerance), or round onto a neighbour, nothing is cut.
 Resampled_network resample_long_segments(const Curve_network& network, double spacing,
                                          const std::vector<bool>& whole = {});
 
