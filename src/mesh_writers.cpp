@@ -193,10 +193,15 @@ void write_off(std::ostream& os, const Mesh_data& mesh) {
   for (const auto& t : mesh.triangles) w << "3 " << t[0] << ' ' << t[1] << ' ' << t[2] << '\n';
 }
 
-void write_obj(std::ostream& os, const Mesh_data& mesh, bool curves_in_mesh) {
+// The material of region `k` in a material library (write_material_library).
+std::string material_name(int k) { return k >= 0 ? "region_" + std::to_string(k) : std::string("unassigned"); }
+
+void write_obj(std::ostream& os, const Mesh_data& mesh, bool curves_in_mesh, const std::string& material_library) {
   Number_writer w(os);
   w << (curves_in_mesh ? "# written by meshfit: faces grouped by region (g region_<k>), curve edges as l\n"
                        : "# written by meshfit: faces grouped by region (g region_<k>)\n");
+  const bool materials = !material_library.empty() && !mesh.face_patch.empty();
+  if (materials) w << "mtllib " << material_library.c_str() << '\n';
   // Vertex colours as `v x y z r g b` (the common extension); texture coordinates and normals one
   // per vertex, `vt`/`vn` k being vertex k's, so that every corner is `v/v/v`.
   const bool uvs = !mesh.vertex_uvs.empty(), normals = !mesh.vertex_normals.empty(),
@@ -231,6 +236,7 @@ void write_obj(std::ostream& os, const Mesh_data& mesh, bool curves_in_mesh) {
       current = mesh.face_patch[f];
       if (current >= 0) w << "g region_" << current << '\n';
       else w << "g unassigned\n";
+      if (materials) w << "usemtl " << material_name(current).c_str() << '\n';
     }
     first = false;
     const auto& t = mesh.triangles[f];
@@ -457,7 +463,7 @@ void write_mesh_data(std::ostream& out, Mesh_format format, const Mesh_data& mes
   check_indices(mesh);
   switch (format) {
     case Mesh_format::off: write_off(out, mesh); break;
-    case Mesh_format::obj: write_obj(out, mesh, options.curves_in_mesh); break;
+    case Mesh_format::obj: write_obj(out, mesh, options.curves_in_mesh, options.material_library); break;
     case Mesh_format::ply: write_ply(out, mesh, options.ply_encoding, options.curves_in_mesh); break;
     case Mesh_format::stl: write_stl(out, mesh); break;
     case Mesh_format::vtp: write_vtp(out, mesh); break;
@@ -525,6 +531,26 @@ std::vector<std::vector<std::size_t>> curve_edge_chains(const Mesh_data& mesh) {
 }
 
 std::string curve_edges_path(const std::string& output) { return output + ".curves.polylines.txt"; }
+
+std::string material_library_path(const std::string& output) { return output + ".mtl"; }
+
+void write_material_library(const std::string& path, const Mesh_data& mesh, const Write_options& options) {
+  check_output_path(path, options.protected_paths);
+  check_indices(mesh);
+  if (mesh.face_patch.empty()) return;
+  std::vector<int> regions = mesh.face_patch;
+  std::sort(regions.begin(), regions.end());
+  regions.erase(std::unique(regions.begin(), regions.end()), regions.end());
+  internal::write_file_atomically(path, [&](std::ostream& os) {
+    Number_writer w(os);
+    w << "# written by meshfit: one material per region, its colour as in the .ply output\n";
+    for (int k : regions) {
+      const auto c = region_colour(k);
+      w << "newmtl " << material_name(k).c_str() << "\nKd " << c[0] / 255.0 << ' ' << c[1] / 255.0 << ' '
+        << c[2] / 255.0 << '\n';
+    }
+  });
+}
 
 void write_curve_edges(const std::string& path, const Mesh_data& mesh, const Write_options& options) {
   check_output_path(path, options.protected_paths);

@@ -9,6 +9,7 @@
 
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/Surface_mesh/IO/PLY.h>
+#include <CGAL/boost/graph/IO/polygon_mesh_io.h>
 
 #include <nlohmann/json.hpp>
 
@@ -914,6 +915,61 @@ TEST_CASE("cli ecosystem: a .ply output colours each face by its region beside p
   REQUIRE(warned.status == 0);
   CHECK(warned.err.find("other.ply: face colours (red green blue) other than meshfit's region colours are read and "
                         "not carried to the output") != std::string::npos);
+}
+
+TEST_CASE("cli ecosystem: an .obj output names a material library beside it, one material per region, in the region's colour",
+          "[cli][ecosystem][obj]") {
+  Temp_dir dir;
+  const std::string inputs = " --template " + q(data + "/template.off") + " --curves " +
+                             q(data + "/curves.polylines.txt") + " --correspondences " + q(data + "/pairs.txt");
+  REQUIRE(run(dir, "fit --quiet" + inputs + " --output fit.obj --split-regions parts").status == 0);
+  // Every group takes the material of its name, from the library the first lines name.
+  std::istringstream obj(read_text(dir.file("fit.obj")));
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(obj, line);) lines.push_back(line);
+  REQUIRE(lines.size() > 2);
+  CHECK(lines[1] == "mtllib fit.obj.mtl");
+  std::size_t groups = 0;
+  for (std::size_t i = 0; i + 1 < lines.size(); ++i)
+    if (lines[i].rfind("g ", 0) == 0) {
+      ++groups;
+      CHECK(lines[i + 1] == "usemtl " + lines[i].substr(2));
+    }
+  CHECK(groups == 12);
+  // The library: 12 materials, each its region's colour (as in the .ply), all different.
+  std::istringstream mtl(read_text(dir.file("fit.obj.mtl")));
+  std::map<std::string, std::array<double, 3>> kd;
+  std::string current;
+  for (std::string key; mtl >> key;) {
+    if (key == "newmtl") mtl >> current;
+    else if (key == "Kd") mtl >> kd[current][0] >> kd[current][1] >> kd[current][2];
+    else std::getline(mtl, key);
+  }
+  REQUIRE(kd.size() == 12);
+  std::set<std::array<double, 3>> distinct;
+  for (const auto& [name, c] : kd) {
+    const auto expected = meshfit::region_colour(std::stoi(name.substr(7)));
+    for (int k = 0; k < 3; ++k) CHECK(std::lround(c[k] * 255) == expected[k]);
+    distinct.insert(c);
+  }
+  CHECK(distinct.size() == 12);
+  // CGAL's reader still reads the .obj; the region files name no library.
+  CGAL::Surface_mesh<meshfit::Point_3> m;
+  CHECK(CGAL::IO::read_polygon_mesh(dir.file("fit.obj"), m));
+  CHECK(m.number_of_faces() == meshfit::read_mesh_data(dir.file("fit.obj")).triangles.size());
+  CHECK(read_text(dir.file("parts/region_0.obj")).find("mtllib") == std::string::npos);
+  // The library's path is checked before any work like the output's: never over an input.
+  const std::string pairs = read_text(data + "/pairs.txt");
+  dir.write("o.obj.mtl", pairs);
+  const Run_result over = run(dir, "fit --quiet --template " + q(data + "/template.off") + " --curves " +
+                                       q(data + "/curves.polylines.txt") + " --correspondences o.obj.mtl --output o.obj");
+  CHECK(over.status == 1);
+  CHECK(over.err.find("o.obj.mtl") != std::string::npos);
+  CHECK(read_text(dir.file("o.obj.mtl")) == pairs);
+  CHECK_FALSE(std::filesystem::exists(dir.file("o.obj")));
+  const Run_result clash = run(dir, "fit --quiet" + inputs + " --output x.obj --report x.obj.mtl");
+  CHECK(clash.status == 1);
+  CHECK(clash.err.find("the report is the material library written beside the output") != std::string::npos);
 }
 
 TEST_CASE("cli ecosystem: view draws meshes at 1e40 and 1e-45 (float32's range) in a frame of order one",

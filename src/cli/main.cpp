@@ -513,6 +513,13 @@ std::string check_outputs(const Command_line& cl, const std::vector<std::string>
     others.push_back(curves);
     outputs.emplace_back("the curve file written beside the output", curves);
   }
+  if (meshfit::mesh_format_of(output) == meshfit::Mesh_format::obj) {
+    // The regions' materials, beside an .obj output (write_output).
+    const std::string materials = meshfit::material_library_path(output);
+    meshfit::check_output_path(materials, others);
+    others.push_back(materials);
+    outputs.emplace_back("the material library written beside the output", materials);
+  }
   pending_report.outputs["regions"] = nullptr;
   std::string report_path;
   if (cl.values.count("--report")) {
@@ -605,8 +612,22 @@ void write_output(const Command_line& cl, const meshfit::Mesh_data& out, const s
   options.curves_in_mesh = cl.curves_in_mesh;
   if (!report_path.empty() && report_path != "-") options.protected_paths.push_back(report_path);
   const std::string& output = cl.values.at("--output");
+  // An .obj with regions names its material library, written beside it (not for the region files).
+  const bool materials = meshfit::mesh_format_of(output) == meshfit::Mesh_format::obj && !out.face_patch.empty();
+  const std::string materials_path = meshfit::material_library_path(output);
+  if (materials) {
+    options.material_library = std::filesystem::path(materials_path).filename().string();
+    options.protected_paths.push_back(materials_path);
+  }
   options.protected_paths.push_back(meshfit::curve_edges_path(output));
   meshfit::write_mesh_data(output, out, options);
+  options.material_library.clear();
+  if (materials) {
+    meshfit::Write_options m = options;
+    m.protected_paths.erase(std::find(m.protected_paths.begin(), m.protected_paths.end(), materials_path));
+    m.protected_paths.push_back(output);
+    meshfit::write_material_library(materials_path, out, m);
+  }
   progress_display.finish();
   if (!cl.quiet)
     std::cerr << "meshfit: " << cl.command << ": wrote " << output << " (" << out.points.size() << " vertices, "
