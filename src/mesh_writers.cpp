@@ -169,6 +169,23 @@ std::uint8_t colour_byte(double c) {
   return static_cast<std::uint8_t>(std::lround(std::clamp(c, 0.0, 1.0) * 255));
 }
 
+}  // namespace
+
+std::array<std::uint8_t, 3> region_colour(int region) {
+  if (region < 0) return {128, 128, 128};
+  // HSL to RGB (as THREE.Color.setHSL in the viewer).
+  const double h = std::fmod(region * 0.381966, 1.0), s = 0.65, l = 0.58;
+  const double q = l < 0.5 ? l * (1 + s) : l + s - l * s, p = 2 * l - q;
+  auto channel = [&](double t) {
+    t = t < 0 ? t + 1 : t > 1 ? t - 1 : t;
+    const double c = t < 1.0 / 6 ? p + (q - p) * 6 * t : t < 0.5 ? q : t < 2.0 / 3 ? p + (q - p) * (2.0 / 3 - t) * 6 : p;
+    return colour_byte(c);
+  };
+  return {channel(h + 1.0 / 3), channel(h), channel(h - 1.0 / 3)};
+}
+
+namespace {
+
 void write_off(std::ostream& os, const Mesh_data& mesh) {
   Number_writer w(os);
   w << "OFF\n" << mesh.points.size() << ' ' << mesh.triangles.size() << " 0\n";
@@ -176,10 +193,15 @@ void write_off(std::ostream& os, const Mesh_data& mesh) {
   for (const auto& t : mesh.triangles) w << "3 " << t[0] << ' ' << t[1] << ' ' << t[2] << '\n';
 }
 
-void write_obj(std::ostream& os, const Mesh_data& mesh, bool curves_in_mesh) {
+// The material of region `k` in a material library (write_material_library).
+std::string material_name(int k) { return k >= 0 ? "region_" + std::to_string(k) : std::string("unassigned"); }
+
+void write_obj(std::ostream& os, const Mesh_data& mesh, bool curves_in_mesh, const std::string& material_library) {
   Number_writer w(os);
   w << (curves_in_mesh ? "# written by meshfit: faces grouped by region (g region_<k>), curve edges as l\n"
                        : "# written by meshfit: faces grouped by region (g region_<k>)\n");
+  const bool materials = !material_library.empty() && !mesh.face_patch.empty();
+  if (materials) w << "mtllib " << material_library.c_str() << '\n';
   // Vertex colours as `v x y z r g b` (the common extension); texture coordinates and normals one
   // per vertex, `vt`/`vn` k being vertex k's, so that every corner is `v/v/v`.
   const bool uvs = !mesh.vertex_uvs.empty(), normals = !mesh.vertex_normals.empty(),
@@ -214,6 +236,7 @@ void write_obj(std::ostream& os, const Mesh_data& mesh, bool curves_in_mesh) {
       current = mesh.face_patch[f];
       if (current >= 0) w << "g region_" << current << '\n';
       else w << "g unassigned\n";
+      if (materials) w << "usemtl " << material_name(current).c_str() << '\n';
     }
     first = false;
     const auto& t = mesh.triangles[f];
@@ -251,7 +274,8 @@ void write_ply(std::ostream& os, const Mesh_data& mesh, Ply_encoding encoding, b
   if (normals) w << "property double nx\nproperty double ny\nproperty double nz\n";
   if (colours) w << "property uchar red\nproperty uchar green\nproperty uchar blue\nproperty uchar alpha\n";
   w << "element face " << mesh.triangles.size() << "\nproperty list uchar int vertex_indices\n";
-  if (patches) w << "property int patch_id\n";
+  // The regions' colours beside their numbers: viewers that show no `patch_id` (f3d) show them.
+  if (patches) w << "property int patch_id\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n";
   // No empty element (meshio refuses `element edge 0`); the flag tells curve edges from a list of
   // every edge, which is what CGAL's write_PLY writes.
   const bool edges = curves_in_mesh && !mesh.curve_edges.empty();
@@ -272,7 +296,10 @@ void write_ply(std::ostream& os, const Mesh_data& mesh, Ply_encoding encoding, b
     for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
       const auto& t = mesh.triangles[f];
       w << "3 " << t[0] << ' ' << t[1] << ' ' << t[2];
-      if (patches) w << ' ' << mesh.face_patch[f];
+      if (patches) {
+        const auto c = region_colour(mesh.face_patch[f]);
+        w << ' ' << mesh.face_patch[f] << ' ' << int(c[0]) << ' ' << int(c[1]) << ' ' << int(c[2]);
+      }
       w << '\n';
     }
     if (edges)
@@ -294,7 +321,10 @@ void write_ply(std::ostream& os, const Mesh_data& mesh, Ply_encoding encoding, b
   for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
     put_le<std::uint8_t>(os, 3);
     for (std::size_t v : mesh.triangles[f]) put_le<std::int32_t>(os, static_cast<std::int32_t>(v));
-    if (patches) put_le<std::int32_t>(os, mesh.face_patch[f]);
+    if (patches) {
+      put_le<std::int32_t>(os, mesh.face_patch[f]);
+      for (std::uint8_t c : region_colour(mesh.face_patch[f])) put_le<std::uint8_t>(os, c);
+    }
   }
   if (edges)
     for (const auto& e : mesh.curve_edges) {
@@ -317,7 +347,32 @@ void write_vtp(std::ostream& os, const Mesh_data& mesh) {
     << "\" NumberOfStrips=\"0\" NumberOfPolys=\"" << nt << "\">\n"
     << "<Points>\n<DataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\" format=\"ascii\">\n";
   for (const Point_3& p : mesh.points) w << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
-  w << "</DataArray>\n</Points>\n<CellData Scalars=\"region\">\n"
+  w << "</DataArray>\n</Points>\n";
+  // The vertex attributes as point data: texture coordinates and normals as VTK's active TCoords
+  // and Normals, colours as bytes (RGBA; f3d and ParaView show them with --scalars=Colors).
+  const bool uvs = !mesh.vertex_uvs.empty(), normals = !mesh.vertex_normals.empty(),
+             colours = !mesh.vertex_colors.empty();
+  if (uvs || normals || colours) {
+    w << "<PointData" << (uvs ? " TCoords=\"TCoords\"" : "") << (normals ? " Normals=\"Normals\"" : "") << ">\n";
+    auto array = [&](const char* type, const char* name, const auto& values, bool bytes) {
+      w << "<DataArray type=\"" << type << "\" Name=\"" << name << "\" NumberOfComponents=\""
+        << values.front().size() << "\" format=\"ascii\">\n";
+      for (const auto& a : values) {
+        for (std::size_t k = 0; k < a.size(); ++k) {
+          if (k) w << ' ';
+          if (bytes) w << int(colour_byte(a[k]));
+          else w << a[k];
+        }
+        w << '\n';
+      }
+      w << "</DataArray>\n";
+    };
+    if (uvs) array("Float64", "TCoords", mesh.vertex_uvs, false);
+    if (normals) array("Float64", "Normals", mesh.vertex_normals, false);
+    if (colours) array("UInt8", "Colors", mesh.vertex_colors, true);
+    w << "</PointData>\n";
+  }
+  w << "<CellData Scalars=\"region\">\n"
     << "<DataArray type=\"Int32\" Name=\"region\" format=\"ascii\">\n";
   for (std::size_t e = 0; e < nl; ++e) w << "-1\n";
   for (std::size_t f = 0; f < nt; ++f) w << (mesh.face_patch.empty() ? 0 : mesh.face_patch[f]) << '\n';
@@ -362,6 +417,27 @@ void write_vtk(std::ostream& os, const Mesh_data& mesh) {
   w << "SCALARS curve int 1\nLOOKUP_TABLE default\n";
   for (std::size_t e = 0; e < nl; ++e) w << "1\n";
   for (std::size_t f = 0; f < nt; ++f) w << "0\n";
+  // The vertex attributes as point data arrays of a FIELD (meshio's legacy reader knows no
+  // TEXTURE_COORDINATES or NORMALS section): TCoords, Normals, Colors (RGBA bytes), as in write_vtp.
+  const std::size_t n = mesh.points.size();
+  const int arrays = int(!mesh.vertex_uvs.empty()) + int(!mesh.vertex_normals.empty()) + int(!mesh.vertex_colors.empty());
+  if (arrays == 0) return;
+  w << "POINT_DATA " << n << "\nFIELD attributes " << arrays << '\n';
+  auto array = [&](const char* name, const auto& values, bool bytes) {
+    if (values.empty()) return;
+    w << name << ' ' << values.front().size() << ' ' << n << (bytes ? " unsigned_char\n" : " double\n");
+    for (const auto& a : values) {
+      for (std::size_t k = 0; k < a.size(); ++k) {
+        if (k) w << ' ';
+        if (bytes) w << int(colour_byte(a[k]));
+        else w << a[k];
+      }
+      w << '\n';
+    }
+  };
+  array("TCoords", mesh.vertex_uvs, false);
+  array("Normals", mesh.vertex_normals, false);
+  array("Colors", mesh.vertex_colors, true);
 }
 
 void write_stl(std::ostream& os, const Mesh_data& mesh) {
@@ -387,7 +463,7 @@ void write_mesh_data(std::ostream& out, Mesh_format format, const Mesh_data& mes
   check_indices(mesh);
   switch (format) {
     case Mesh_format::off: write_off(out, mesh); break;
-    case Mesh_format::obj: write_obj(out, mesh, options.curves_in_mesh); break;
+    case Mesh_format::obj: write_obj(out, mesh, options.curves_in_mesh, options.material_library); break;
     case Mesh_format::ply: write_ply(out, mesh, options.ply_encoding, options.curves_in_mesh); break;
     case Mesh_format::stl: write_stl(out, mesh); break;
     case Mesh_format::vtp: write_vtp(out, mesh); break;
@@ -455,6 +531,26 @@ std::vector<std::vector<std::size_t>> curve_edge_chains(const Mesh_data& mesh) {
 }
 
 std::string curve_edges_path(const std::string& output) { return output + ".curves.polylines.txt"; }
+
+std::string material_library_path(const std::string& output) { return output + ".mtl"; }
+
+void write_material_library(const std::string& path, const Mesh_data& mesh, const Write_options& options) {
+  check_output_path(path, options.protected_paths);
+  check_indices(mesh);
+  if (mesh.face_patch.empty()) return;
+  std::vector<int> regions = mesh.face_patch;
+  std::sort(regions.begin(), regions.end());
+  regions.erase(std::unique(regions.begin(), regions.end()), regions.end());
+  internal::write_file_atomically(path, [&](std::ostream& os) {
+    Number_writer w(os);
+    w << "# written by meshfit: one material per region, its colour as in the .ply output\n";
+    for (int k : regions) {
+      const auto c = region_colour(k);
+      w << "newmtl " << material_name(k).c_str() << "\nKd " << c[0] / 255.0 << ' ' << c[1] / 255.0 << ' '
+        << c[2] / 255.0 << '\n';
+    }
+  });
+}
 
 void write_curve_edges(const std::string& path, const Mesh_data& mesh, const Write_options& options) {
   check_output_path(path, options.protected_paths);

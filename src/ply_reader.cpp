@@ -51,7 +51,8 @@ struct Ply_property {
 
 // What a property means to meshfit.
 enum class Role { none, x, y, z, face_indices, patch_id, edge_v1, edge_v2, curve_flag,
-                  u, v, nx, ny, nz, red, green, blue, alpha };
+                  u, v, nx, ny, nz, red, green, blue, alpha,
+                  face_red, face_green, face_blue };
 
 
 struct Ply_element {
@@ -185,8 +186,26 @@ Ply_header parse_header(Line_reader& in) {
   if (!has_format) in.fail("the header has no 'format' line");
   h.end_line = in.line_number();
   h.body_offset = in.offset();
-  for (Ply_element& e : h.elements)
+  for (Ply_element& e : h.elements) {
     if (e.name == "vertex") assign_attribute_roles(e);
+    // Face colours beside patch_id: meshfit writes region_colour(patch_id) there, and writes them
+    // again from the patch ids; checked against them when read (other colours are reported dropped).
+    if (e.name == "face" && std::find(e.roles.begin(), e.roles.end(), Role::patch_id) != e.roles.end()) {
+      std::array<std::size_t, 3> at{};
+      std::size_t found = 0;
+      const char* names[3] = {"red", "green", "blue"};
+      for (std::size_t c = 0; c < 3; ++c)
+        for (std::size_t k = 0; k < e.properties.size(); ++k)
+          if (!e.properties[k].is_list && e.roles[k] == Role::none && e.properties[k].name == names[c] &&
+              is_integral(e.properties[k].type)) {
+            at[c] = k;
+            ++found;
+            break;
+          }
+      if (found == 3)
+        for (std::size_t c = 0; c < 3; ++c) e.roles[at[c]] = c == 0 ? Role::face_red : c == 1 ? Role::face_green : Role::face_blue;
+    }
+  }
   for (const Ply_element& e : h.elements) {
     auto has = [&](Role r) {
       for (Role q : e.roles) if (q == r) return true;
@@ -373,6 +392,7 @@ Polygon_soup parse_ply(std::string_view text, const std::string& name) {
     return static_cast<std::size_t>(v);
   };
 
+  bool other_face_colours = false;  // face colours that are not region_colour(patch_id)
   for (const Ply_element& e : h.elements) {
     auto has = [&](Role r) { return std::find(e.roles.begin(), e.roles.end(), r) != e.roles.end(); };
     const bool keeps_uv = e.name == "vertex" && has(Role::u), keeps_normal = e.name == "vertex" && has(Role::nx),
@@ -383,6 +403,7 @@ Polygon_soup parse_ply(std::string_view text, const std::string& name) {
       if (e.roles[k] == Role::red && is_integral(e.properties[k].type)) colour_divisor = 255;
     const bool has_patch =
         e.name == "face" && std::find(e.roles.begin(), e.roles.end(), Role::patch_id) != e.roles.end();
+    const bool has_face_colour = has(Role::face_red);
     // Only flagged edges are curve edges: CGAL's write_PLY lists every edge of the mesh, and
     // taking such a list as curves would fix every vertex.
     const bool has_curve_flag =
@@ -393,6 +414,7 @@ Polygon_soup parse_ply(std::string_view text, const std::string& name) {
       std::array<std::size_t, 2> edge{};
       int patch = -1;
       bool flagged = false;
+      double face_rgb[3] = {0, 0, 0};
       for (std::size_t k = 0; k < e.properties.size(); ++k) {
         const Ply_property& p = e.properties[k];
         if (p.is_list) {
@@ -424,6 +446,9 @@ Polygon_soup parse_ply(std::string_view text, const std::string& name) {
           case Role::green: rgba[1] = v / colour_divisor; break;
           case Role::blue: rgba[2] = v / colour_divisor; break;
           case Role::alpha: rgba[3] = v / colour_divisor; break;
+          case Role::face_red: face_rgb[0] = v; break;
+          case Role::face_green: face_rgb[1] = v; break;
+          case Role::face_blue: face_rgb[2] = v; break;
           default: break;
         }
       }
@@ -437,6 +462,10 @@ Polygon_soup parse_ply(std::string_view text, const std::string& name) {
       if (e.name == "face") {
         soup.end_polygon(where);
         if (has_patch) soup.polygon_patch.push_back(patch);
+        if (has_face_colour && !other_face_colours) {
+          const auto c = region_colour(patch);
+          other_face_colours = face_rgb[0] != c[0] || face_rgb[1] != c[1] || face_rgb[2] != c[2];
+        }
       }
       if (e.name == "edge") {
         if (has_curve_flag && flagged) {
@@ -449,6 +478,7 @@ Polygon_soup parse_ply(std::string_view text, const std::string& name) {
     }
   }
   body.finish(h);
+  if (other_face_colours) soup.drop("face colours (red green blue) other than meshfit's region colours");
   return soup;
 }
 

@@ -10,6 +10,7 @@
 // OpenBLAS (the BLAS CMake links, BLA_VENDOR OpenBLAS; Debian's pthread build has its own pool,
 // which OpenMP's setting does not reach).
 extern "C" void openblas_set_num_threads(int);
+extern "C" int openblas_get_num_threads(void);
 
 namespace meshfit {
 
@@ -27,6 +28,23 @@ int number_of_threads() {
 #else
   return 1;
 #endif
+}
+
+Scoped_number_of_threads::Scoped_number_of_threads(int n) {
+  if (n < 0) throw Invalid_input("number_of_threads must be at least 1, not " + std::to_string(n));
+  if (n == 0) return;
+  const int openmp = number_of_threads(), openblas = openblas_get_num_threads();
+  set_number_of_threads(n);
+  m_openmp = openmp;
+  m_openblas = openblas;
+}
+
+Scoped_number_of_threads::~Scoped_number_of_threads() {
+  if (m_openmp == 0) return;
+#ifdef _OPENMP
+  omp_set_num_threads(m_openmp);
+#endif
+  openblas_set_num_threads(m_openblas);
 }
 
 }  // namespace meshfit

@@ -9,6 +9,7 @@
 
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/Surface_mesh/IO/PLY.h>
+#include <CGAL/boost/graph/IO/polygon_mesh_io.h>
 
 #include <nlohmann/json.hpp>
 
@@ -20,6 +21,7 @@
 #include <cmath>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -615,7 +617,7 @@ double largest_mean_residual(const std::vector<std::array<std::size_t, 3>>& face
 
 }  // namespace
 
-TEST_CASE("cli ecosystem: fit carries the template's texture coordinates, normals and colours to .obj and .ply outputs",
+TEST_CASE("cli ecosystem: fit and deform carry the template's texture coordinates, normals and colours to .obj, .ply, .vtp and .vtk outputs",
           "[cli][ecosystem][attributes]") {
   Temp_dir dir;
   const meshfit::Mesh_data t = meshfit::read_mesh_data(data + "/template.off");
@@ -720,18 +722,78 @@ TEST_CASE("cli ecosystem: fit carries the template's texture coordinates, normal
     CHECK(std::vector<double>(b.rows[i].begin(), b.rows[i].begin() + 3) == c.rows[i]);
   CHECK(c.faces == b.faces);
 
-  // An output that holds no vertex attribute, and deform (which adds vertices without
-  // interpolating attributes), say so in the report and on stderr.
+  // An output that holds no vertex attribute says so in the report and on stderr.
   const Run_result off = run(dir, "fit --template template.obj" + rest + " --output d.off --report d.json");
   REQUIRE(off.status == 0);
   CHECK(not_carried("d.json") ==
         std::vector<std::string>{"template.obj: texture coordinates are read and not carried to the output (OFF holds "
-                                 "no vertex attributes: write .obj or .ply)",
+                                 "no vertex attributes: write .obj, .ply, .vtp or .vtk)",
                                  "template.obj: vertex normals are read and not carried to the output (OFF holds no "
-                                 "vertex attributes: write .obj or .ply)"});
+                                 "vertex attributes: write .obj, .ply, .vtp or .vtk)"});
   CHECK(off.err.find("warning: template.obj: texture coordinates are read and not carried") != std::string::npos);
-  REQUIRE(run(dir, "deform --quiet --template template.ply" + rest + " --output e.ply --report e.json").status == 0);
-  CHECK(not_carried("e.json").size() == 2);
+
+  // deform carries them too: the template's vertices keep theirs, the added ones get the mean of
+  // their neighbours' (colours, as bytes, within rounding), unit normals.
+  const Run_result deform = run(dir, "deform --quiet --template template.ply" + rest + " --output e.ply --report e.json");
+  INFO(deform.err);
+  REQUIRE(deform.status == 0);
+  CHECK(not_carried("e.json").empty());
+  const Ply_text e = parse_ply_text(read_text(dir.file("e.ply")));
+  REQUIRE(e.rows.size() > nt);  // deform added vertices
+  const std::size_t er = e.column("red"), enx = e.column("nx");
+  REQUIRE(er < e.vertex_properties.size());
+  REQUIRE(enx < e.vertex_properties.size());
+  for (std::size_t i = 0; i < nt; ++i) {
+    const auto given = colour_of(i);
+    CHECK((e.rows[i][er] == given[0] && e.rows[i][er + 1] == given[1] && e.rows[i][er + 2] == given[2]));
+    const auto& p = t.points[i];
+    CHECK(std::array<double, 3>{e.rows[i][enx], e.rows[i][enx + 1], e.rows[i][enx + 2]} ==
+          std::array<double, 3>{p.x(), p.y(), p.z()});
+  }
+  std::vector<std::vector<double>> deform_colours;
+  for (const auto& row : e.rows) deform_colours.push_back({row[er], row[er + 1], row[er + 2]});
+  CHECK(largest_mean_residual(e.faces, deform_colours, nt) <= 1 + 1e-9);
+  for (std::size_t i = nt; i < e.rows.size(); ++i)
+    CHECK(std::abs(std::hypot(e.rows[i][enx], e.rows[i][enx + 1], e.rows[i][enx + 2]) - 1) < 1e-6);
+
+  // .vtp and .vtk carry them as point data: the values of the .obj and .ply outputs of the same fit.
+  REQUIRE(run(dir, "fit --quiet --template template.obj" + rest + " --output a.vtp --report av.json").status == 0);
+  CHECK(not_carried("av.json").empty());
+  const std::string vtp = read_text(dir.file("a.vtp"));
+  CHECK(vtp.find("<PointData TCoords=\"TCoords\" Normals=\"Normals\">") != std::string::npos);
+  auto vtp_array = [&](const std::string& name) {
+    const std::size_t at = vtp.find("Name=\"" + name + "\"");
+    REQUIRE(at != std::string::npos);
+    std::istringstream text(vtp.substr(vtp.find('>', at) + 1, vtp.find("</DataArray>", at) - vtp.find('>', at) - 1));
+    std::vector<double> values;
+    for (double x; text >> x;) values.push_back(x);
+    return values;
+  };
+  std::vector<double> obj_uvs, obj_normals;
+  for (const auto& x : a.vt) obj_uvs.insert(obj_uvs.end(), {x[0], x[1]});
+  for (const auto& x : a.vn) obj_normals.insert(obj_normals.end(), {x[0], x[1], x[2]});
+  CHECK(vtp_array("TCoords") == obj_uvs);
+  CHECK(vtp_array("Normals") == obj_normals);
+  REQUIRE(run(dir, "fit --quiet --template template.ply" + rest + " --output b.vtk --report bv.json").status == 0);
+  CHECK(not_carried("bv.json").empty());
+  const std::string vtk = read_text(dir.file("b.vtk"));
+  auto vtk_array = [&](const std::string& header, std::size_t count) {
+    const std::size_t at = vtk.find(header);
+    REQUIRE(at != std::string::npos);
+    std::istringstream text(vtk.substr(at + header.size()));
+    std::vector<double> values(count);
+    for (double& x : values) text >> x;
+    return values;
+  };
+  const std::size_t nb = b.rows.size();
+  std::vector<double> ply_normals, ply_colours;
+  for (const auto& row : b.rows) {
+    ply_normals.insert(ply_normals.end(), {row[nx], row[nx + 1], row[nx + 2]});
+    ply_colours.insert(ply_colours.end(), {row[r], row[r + 1], row[r + 2], row[r + 3]});
+  }
+  CHECK(vtk.find("POINT_DATA " + std::to_string(nb) + "\nFIELD attributes 2\n") != std::string::npos);
+  CHECK(vtk_array("Normals 3 " + std::to_string(nb) + " double\n", 3 * nb) == ply_normals);
+  CHECK(vtk_array("Colors 4 " + std::to_string(nb) + " unsigned_char\n", 4 * nb) == ply_colours);
   // smooth moves vertices only: the attributes are the template's, unchanged.
   REQUIRE(run(dir, "smooth --quiet --template template.obj --output s.obj --report s.json").status == 0);
   CHECK(not_carried("s.json").empty());
@@ -796,6 +858,119 @@ std::string scaled_text(const std::string& text, double s) {
 }
 
 }  // namespace
+
+TEST_CASE("cli ecosystem: a .ply output colours each face by its region beside patch_id, and reads back without a warning",
+          "[cli][ecosystem][ply]") {
+  Temp_dir dir;
+  const std::string inputs = " --template " + q(data + "/template.off") + " --curves " +
+                             q(data + "/curves.polylines.txt") + " --correspondences " + q(data + "/pairs.txt");
+  REQUIRE(run(dir, "fit --quiet" + inputs + " --output fit-ascii.ply").status == 0);
+  // The same mesh in binary, by the library's writer.
+  meshfit::Write_options binary;
+  binary.ply_encoding = meshfit::Ply_encoding::binary_little_endian;
+  meshfit::write_mesh_data(dir.file("fit-binary.ply"), meshfit::read_mesh_data(dir.file("fit-ascii.ply")), binary);
+  for (const char* encoding : {"ascii", "binary"}) {
+    INFO(encoding);
+    const std::string out = std::string("fit-") + encoding + ".ply";
+    const std::string text = read_text(dir.file(out));
+    CHECK(text.find("property int patch_id\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n") !=
+          std::string::npos);
+    // One colour per region, a different one for each: read by CGAL's reader (f:patch_id, f:color).
+    CGAL::Surface_mesh<meshfit::Point_3> m;
+    std::ifstream in(dir.file(out), std::ios::binary);
+    REQUIRE(CGAL::IO::read_PLY(in, m));
+    auto [patch, has_patch] = m.property_map<CGAL::Surface_mesh<meshfit::Point_3>::Face_index, int>("f:patch_id");
+    auto [colour, has_colour] =
+        m.property_map<CGAL::Surface_mesh<meshfit::Point_3>::Face_index, CGAL::IO::Color>("f:color");
+    REQUIRE(has_patch);
+    REQUIRE(has_colour);
+    std::map<int, std::array<int, 3>> colour_of_region;
+    bool consistent = true;
+    for (auto f : m.faces()) {
+      const std::array<int, 3> c{colour[f].r(), colour[f].g(), colour[f].b()};
+      consistent = consistent && colour_of_region.emplace(patch[f], c).first->second == c;
+    }
+    CHECK(consistent);
+    std::set<std::array<int, 3>> distinct;
+    for (const auto& [region, c] : colour_of_region) distinct.insert(c);
+    CHECK(colour_of_region.size() == 12);
+    CHECK(distinct.size() == colour_of_region.size());
+  }
+  // meshfit reads its own .ply back with no warning about the colours (it writes them again from
+  // patch_id) ...
+  const Run_result back = run(dir, "smooth --template fit-ascii.ply --output back.ply --report back.json");
+  REQUIRE(back.status == 0);
+  CHECK(back.err.find("colours") == std::string::npos);
+  CHECK(read_text(dir.file("back.json")).find("colours") == std::string::npos);
+  // ... but face colours that are not the regions' are reported as not carried.
+  std::string other = read_text(dir.file("fit-ascii.ply"));
+  const std::size_t body = other.find("end_header\n") + 11;
+  std::size_t line = body;
+  const std::size_t nv = std::stoul(other.substr(other.find("element vertex ") + 15));
+  for (std::size_t i = 0; i < nv; ++i) line = other.find('\n', line) + 1;
+  const std::size_t eol = other.find('\n', line);
+  other.replace(other.rfind(' ', eol) + 1, eol - other.rfind(' ', eol) - 1, "7");  // the first face's blue
+  dir.write("other.ply", other);
+  const Run_result warned = run(dir, "smooth --template other.ply --output o.ply --report o.json");
+  REQUIRE(warned.status == 0);
+  CHECK(warned.err.find("other.ply: face colours (red green blue) other than meshfit's region colours are read and "
+                        "not carried to the output") != std::string::npos);
+}
+
+TEST_CASE("cli ecosystem: an .obj output names a material library beside it, one material per region, in the region's colour",
+          "[cli][ecosystem][obj]") {
+  Temp_dir dir;
+  const std::string inputs = " --template " + q(data + "/template.off") + " --curves " +
+                             q(data + "/curves.polylines.txt") + " --correspondences " + q(data + "/pairs.txt");
+  REQUIRE(run(dir, "fit --quiet" + inputs + " --output fit.obj --split-regions parts").status == 0);
+  // Every group takes the material of its name, from the library the first lines name.
+  std::istringstream obj(read_text(dir.file("fit.obj")));
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(obj, line);) lines.push_back(line);
+  REQUIRE(lines.size() > 2);
+  CHECK(lines[1] == "mtllib fit.obj.mtl");
+  std::size_t groups = 0;
+  for (std::size_t i = 0; i + 1 < lines.size(); ++i)
+    if (lines[i].rfind("g ", 0) == 0) {
+      ++groups;
+      CHECK(lines[i + 1] == "usemtl " + lines[i].substr(2));
+    }
+  CHECK(groups == 12);
+  // The library: 12 materials, each its region's colour (as in the .ply), all different.
+  std::istringstream mtl(read_text(dir.file("fit.obj.mtl")));
+  std::map<std::string, std::array<double, 3>> kd;
+  std::string current;
+  for (std::string key; mtl >> key;) {
+    if (key == "newmtl") mtl >> current;
+    else if (key == "Kd") mtl >> kd[current][0] >> kd[current][1] >> kd[current][2];
+    else std::getline(mtl, key);
+  }
+  REQUIRE(kd.size() == 12);
+  std::set<std::array<double, 3>> distinct;
+  for (const auto& [name, c] : kd) {
+    const auto expected = meshfit::region_colour(std::stoi(name.substr(7)));
+    for (int k = 0; k < 3; ++k) CHECK(std::lround(c[k] * 255) == expected[k]);
+    distinct.insert(c);
+  }
+  CHECK(distinct.size() == 12);
+  // CGAL's reader still reads the .obj; the region files name no library.
+  CGAL::Surface_mesh<meshfit::Point_3> m;
+  CHECK(CGAL::IO::read_polygon_mesh(dir.file("fit.obj"), m));
+  CHECK(m.number_of_faces() == meshfit::read_mesh_data(dir.file("fit.obj")).triangles.size());
+  CHECK(read_text(dir.file("parts/region_0.obj")).find("mtllib") == std::string::npos);
+  // The library's path is checked before any work like the output's: never over an input.
+  const std::string pairs = read_text(data + "/pairs.txt");
+  dir.write("o.obj.mtl", pairs);
+  const Run_result over = run(dir, "fit --quiet --template " + q(data + "/template.off") + " --curves " +
+                                       q(data + "/curves.polylines.txt") + " --correspondences o.obj.mtl --output o.obj");
+  CHECK(over.status == 1);
+  CHECK(over.err.find("o.obj.mtl") != std::string::npos);
+  CHECK(read_text(dir.file("o.obj.mtl")) == pairs);
+  CHECK_FALSE(std::filesystem::exists(dir.file("o.obj")));
+  const Run_result clash = run(dir, "fit --quiet" + inputs + " --output x.obj --report x.obj.mtl");
+  CHECK(clash.status == 1);
+  CHECK(clash.err.find("the report is the material library written beside the output") != std::string::npos);
+}
 
 TEST_CASE("cli ecosystem: view draws meshes at 1e40 and 1e-45 (float32's range) in a frame of order one",
           "[cli][view]") {

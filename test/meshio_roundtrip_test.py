@@ -92,6 +92,17 @@ def main():
         patch = cell_values(ply, "patch_id", "triangle")
         check(len(patch) == faces and len(set(patch)) == regions,
               ".ply: patch_id on every face, %d distinct values" % len(set(patch)))
+        # The region's colour beside patch_id (what f3d shows): one per region, each different.
+        rgb = ("red", "green", "blue")
+        check(all(c in ply.cell_data for c in rgb), ".ply: meshio finds the face properties red green blue")
+        if all(c in ply.cell_data for c in rgb):
+            colours = list(zip(*(cell_values(ply, c, "triangle") for c in rgb)))
+            by_region = {}
+            for p, c in zip(patch, colours):
+                by_region.setdefault(p, set()).add(c)
+            check(all(len(s) == 1 for s in by_region.values()) and
+                  len(set(min(s) for s in by_region.values())) == regions,
+                  ".ply: one face colour per region, %d different" % len(set(min(s) for s in by_region.values())))
 
     # .obj: readable (no l lines), same triangles.
     obj = meshio.read(os.path.join(a.work, "fit.obj"))
@@ -130,6 +141,31 @@ def main():
     check(arrays.get("curve", [])[:nl] == [1] * nl and set(arrays["curve"][nl:]) == {0}, ".vtp: curve flags")
     conn = [int(x) for x in piece.find("Polys/DataArray[@Name='connectivity']").text.split()]
     check(len(conn) == 3 * faces and max(conn) < vertices, ".vtp: triangle connectivity in range")
+
+    # A template with texture coordinates and normals (an OBJ written here): the .vtk's point data
+    # TCoords and Normals hold them on the template's vertices, exactly, and values for the others.
+    template = meshio.read(os.path.join(a.data, "template.off"))
+    uvs = [(0.5 + 0.5 * p[0], 0.25 - 0.5 * p[2]) for p in template.points]
+    with open(os.path.join(a.work, "template.obj"), "w") as f:
+        f.writelines("v %r %r %r\n" % tuple(float(x) for x in p) for p in template.points)
+        f.writelines("vt %r %r\n" % uv for uv in uvs)
+        f.writelines("vn %r %r %r\n" % tuple(float(x) for x in p) for p in template.points)
+        for t in template.cells_dict["triangle"]:
+            f.write("f " + " ".join("%d/%d/%d" % (v + 1, v + 1, v + 1) for v in t) + "\n")
+    out = os.path.join(a.work, "attributes.vtk")
+    inputs[1] = os.path.join(a.work, "template.obj")
+    r = subprocess.run([a.meshfit, "fit", "--quiet"] + inputs + ["--output", out], capture_output=True, text=True)
+    check(r.returncode == 0, "fit of a template with attributes to .vtk exits 0 (%s)" % r.stderr.strip())
+    att = meshio.read(out)
+    nt = len(template.points)
+    check("TCoords" in att.point_data and "Normals" in att.point_data, ".vtk: point data TCoords and Normals")
+    if "TCoords" in att.point_data and "Normals" in att.point_data:
+        tc, nn = att.point_data["TCoords"], att.point_data["Normals"]
+        check(tc.shape == (len(att.points), 2) and nn.shape == (len(att.points), 3), ".vtk: one value per vertex")
+        check([tuple(x) for x in tc[:nt]] == uvs, ".vtk: the template's texture coordinates, exactly")
+        check((nn[:nt] == template.points).all(), ".vtk: the template's normals, exactly")
+        check(len(att.points) > nt and all(abs(sum(c * c for c in n) - 1) < 1e-9 for n in nn[nt:]),
+              ".vtk: unit normals on the %d added vertices" % (len(att.points) - nt))
 
 
 if __name__ == "__main__":

@@ -24,8 +24,10 @@
 
 #include "test_helpers.h"
 
+#include <filesystem>
 #include <functional>
 #include <map>
+#include <regex>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -390,4 +392,65 @@ TEMPLATE_TEST_CASE("parameters: a progress callback returning false still cancel
   // A callback that returns true throughout cancels nothing.
   TestType whole = make_mesh<TestType>(e.mesh);
   CHECK_NOTHROW(meshfit::fit_template_to_curves(whole, e.network, e.pairs, meshfit::parameters::progress(cancel_in("none"))));
+}
+
+TEST_CASE("parameters: the reference shows the code's defaults, read from the code, none written by hand",
+          "[parameters][doc]") {
+  // No default in a public header's \cgalParamDefault is a literal number, bool or enumerator.
+  const std::regex literal(R"(\\cgalParamDefault\{[^\n]*`([0-9.]+|true|false|meshfit::[A-Za-z_]+::[a-z_]+)`)");
+  for (const auto& entry : std::filesystem::directory_iterator(std::string(MESHFIT_SOURCE_DIR) + "/include/meshfit")) {
+    if (entry.path().extension() != ".h") continue;
+    const std::string text = meshfit_test::read_text(entry.path().string());
+    std::smatch m;
+    INFO(entry.path().string());
+    CHECK_FALSE(std::regex_search(text, m, literal));
+  }
+#ifndef MESHFIT_DOXYFILE
+  WARN("Doxygen was not found when configuring: no reference, its aliases not checked");
+#else
+  // The aliases the headers use, as CMake wrote them into the Doxyfile, are the code's values.
+  const std::string doxyfile = meshfit_test::read_text(MESHFIT_DOXYFILE);
+  auto alias = [&](const std::string& name) {
+    const std::string key = "ALIASES += \"" + name + "=`";
+    const std::size_t at = doxyfile.find(key);
+    INFO(name);
+    REQUIRE(at != std::string::npos);
+    return doxyfile.substr(at + key.size(), doxyfile.find('`', at + key.size()) - at - key.size());
+  };
+  const meshfit::Deform_options d;
+  CHECK(alias("default_flip_prevention_rounds") == std::to_string(d.flip_prevention_rounds));
+  CHECK(alias("default_memory_limit") == std::to_string(d.memory_limit));
+  CHECK(alias("default_coarse_only") == (d.coarse_only ? "true" : "false"));
+  CHECK((alias("default_rbf_kernel") == "meshfit::Rbf_kernel::linear" && d.rbf_kernel == meshfit::Rbf_kernel::linear));
+  CHECK((alias("default_curve_density") == "meshfit::Curve_density::refine" &&
+         d.curve_density == meshfit::Curve_density::refine));
+  CHECK((alias("default_fine_level") == "meshfit::Fine_level::surface" && d.fine_level == meshfit::Fine_level::surface));
+  CHECK(alias("default_fit_check_self_intersections") ==
+        (meshfit::internal::Fit_options().check_self_intersections ? "true" : "false"));
+  const meshfit::internal::Flow_settings f;
+  CHECK(std::stod(alias("default_flow_step")) == f.step);
+  CHECK(std::stod(alias("default_flow_alpha")) == f.alpha);
+  CHECK((alias("default_flow_weights") == "meshfit::Laplacian_weights::uniform" &&
+         f.weights == meshfit::Laplacian_weights::uniform));
+  CHECK((alias("default_flow_variant") == "meshfit::Laplacian_variant::none" &&
+         f.variant == meshfit::Laplacian_variant::none));
+  // The iteration counts, as the functions run them when not given.
+  auto iterations = [](auto flow) {
+    Surface tm;
+    meshfit::build_triangle_mesh(meshfit_test::grid(4), tm);
+    return std::to_string(flow(tm).iterations);
+  };
+  CHECK(alias("default_smoothing_iterations") ==
+        iterations([](Surface& tm) { return meshfit::smooth_fitted_mesh(tm); }));
+  const auto phases = meshfit::internal::smoothing_phases(CGAL::parameters::default_values());
+  CHECK(alias("default_mean_curvature_iterations") == std::to_string(phases.mean_curvature));
+  CHECK(alias("default_laplacian_iterations") == std::to_string(phases.laplacian));
+  CHECK(alias("default_laplacian_flow_iterations") == iterations([](Surface& tm) { return meshfit::laplacian_flow(tm); }));
+  CHECK(alias("default_mean_curvature_flow_iterations") ==
+        iterations([](Surface& tm) { return meshfit::mean_curvature_flow(tm); }));
+  CHECK(alias("default_modified_mean_curvature_flow_iterations") ==
+        iterations([](Surface& tm) { return meshfit::modified_mean_curvature_flow(tm); }));
+  CHECK(alias("default_modified_laplacian_flow_iterations") ==
+        iterations([](Surface& tm) { return meshfit::modified_laplacian_flow(tm); }));
+#endif
 }

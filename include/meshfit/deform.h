@@ -264,7 +264,7 @@ Deformation_report deform_template_in_place(Work_mesh& tm, const Curve_network& 
 ///   \cgalParamNBegin{rbf_kernel}
 ///     \cgalParamDescription{the basis function φ of the coarse interpolant (rbf.h)}
 ///     \cgalParamType{meshfit::Rbf_kernel}
-///     \cgalParamDefault{`meshfit::Rbf_kernel::linear` (φ(r) = r)}
+///     \cgalParamDefault{\default_rbf_kernel (φ(r) = r)}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{progress}
 ///     \cgalParamDescription{a callback called at each step with a meshfit::Progress_step (stage `"deform"`)}
@@ -272,6 +272,22 @@ Deformation_report deform_template_in_place(Work_mesh& tm, const Curve_network& 
 ///       `void` (never cancels)}
 ///     \cgalParamDefault{none: no calls, no cancelling}
 ///     \cgalParamExtra{When it returns `false`, the stage throws meshfit::Algorithm_failure.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{geom_traits}
+///     \cgalParamDescription{the geometric traits of `tm`'s points: checked at compile time to be a Cartesian kernel over `double`; the computation does not call it}
+///     \cgalParamType{a Cartesian kernel over `double` (`FT` = `double`): `CGAL::Epick`, `CGAL::Simple_cartesian<double>`;
+///       anything else (an exact kernel such as Epeck) is refused at compile time by a static assertion}
+///     \cgalParamDefault{the kernel of the point type of the `vertex_point_map` (meshfit::Kernel, Epick, for meshfit::Point_3)}
+///     \cgalParamExtra{The stage computes on a copy of the coordinates in meshfit::Kernel (exact predicates on the same
+///       doubles), so the results do not depend on this parameter.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{number_of_threads}
+///     \cgalParamDescription{the most threads (OpenMP's and OpenBLAS's, threads.h) the call uses; the counts are put back
+///       as they were when it returns or throws (meshfit::Scoped_number_of_threads)}
+///     \cgalParamType{an integer type, at least 1}
+///     \cgalParamDefault{unchanged: every core, or what `OMP_NUM_THREADS`, `OPENBLAS_NUM_THREADS` or
+///       meshfit::set_number_of_threads() set}
+///     \cgalParamExtra{A value below 1 throws meshfit::Invalid_input before any work.}
 ///   \cgalParamNEnd
 /// \cgalNamedParamsEnd
 ///
@@ -282,6 +298,7 @@ Deformation_report deform_coarse(TriangleMesh& tm, const Curve_network& network,
                                  const std::vector<Correspondence>& pairs,
                                  const NamedParameters& np = CGAL::parameters::default_values()) {
   const Deform_options options = deform_options(np);
+  const Scoped_number_of_threads threads(internal::threads_of(np, "deform"));
   return internal::run_on_copy(tm, np, [&](internal::Work_mesh& work, const auto&) {
     return internal::deform_coarse_in_place(work, network, pairs, options);
   });
@@ -327,24 +344,24 @@ Deformation_report deform_coarse(TriangleMesh& tm, const Curve_network& network,
 ///   \cgalParamNBegin{rbf_kernel}
 ///     \cgalParamDescription{the basis function φ of the fine interpolant (rbf.h)}
 ///     \cgalParamType{meshfit::Rbf_kernel}
-///     \cgalParamDefault{`meshfit::Rbf_kernel::linear` (φ(r) = r)}
+///     \cgalParamDefault{\default_rbf_kernel (φ(r) = r)}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{curve_density}
 ///     \cgalParamDescription{what becomes of a network vertex whose nearest template vertex is taken by another}
 ///     \cgalParamType{meshfit::Curve_density}
-///     \cgalParamDefault{`meshfit::Curve_density::refine` (it gets a vertex of its own)}
+///     \cgalParamDefault{\default_curve_density (it gets a vertex of its own)}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{flip_prevention_rounds}
 ///     \cgalParamDescription{the most rounds of flip prevention (detection, local subdivision, a new fit)}
 ///     \cgalParamType{an integer type}
-///     \cgalParamDefault{`10`}
+///     \cgalParamDefault{\default_flip_prevention_rounds}
 ///     \cgalParamExtra{A negative value throws meshfit::Invalid_input.}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{memory_limit}
 ///     \cgalParamDescription{the most bytes a dense RBF system (the coarse level's, through the pairs, and the thesis fine level's) may take;
 ///       a larger system is refused with meshfit::Algorithm_failure before it is allocated}
 ///     \cgalParamType{`std::size_t`}
-///     \cgalParamDefault{`0`, which means meshfit::default_memory_limit() (an eighth of the physical memory, at most 2 GiB)}
+///     \cgalParamDefault{\default_memory_limit, which means meshfit::default_memory_limit() (an eighth of the physical memory, at most 2 GiB)}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{progress}
 ///     \cgalParamDescription{a callback called at each step with a meshfit::Progress_step (stage `"deform"`)}
@@ -352,6 +369,22 @@ Deformation_report deform_coarse(TriangleMesh& tm, const Curve_network& network,
 ///       `void` (never cancels)}
 ///     \cgalParamDefault{none: no calls, no cancelling}
 ///     \cgalParamExtra{When it returns `false`, the stage throws meshfit::Algorithm_failure.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{geom_traits}
+///     \cgalParamDescription{the geometric traits of `tm`'s points: checked at compile time to be a Cartesian kernel over `double`; the computation does not call it}
+///     \cgalParamType{a Cartesian kernel over `double` (`FT` = `double`): `CGAL::Epick`, `CGAL::Simple_cartesian<double>`;
+///       anything else (an exact kernel such as Epeck) is refused at compile time by a static assertion}
+///     \cgalParamDefault{the kernel of the point type of the `vertex_point_map` (meshfit::Kernel, Epick, for meshfit::Point_3)}
+///     \cgalParamExtra{The stage computes on a copy of the coordinates in meshfit::Kernel (exact predicates on the same
+///       doubles), so the results do not depend on this parameter.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{number_of_threads}
+///     \cgalParamDescription{the most threads (OpenMP's and OpenBLAS's, threads.h) the call uses; the counts are put back
+///       as they were when it returns or throws (meshfit::Scoped_number_of_threads)}
+///     \cgalParamType{an integer type, at least 1}
+///     \cgalParamDefault{unchanged: every core, or what `OMP_NUM_THREADS`, `OPENBLAS_NUM_THREADS` or
+///       meshfit::set_number_of_threads() set}
+///     \cgalParamExtra{A value below 1 throws meshfit::Invalid_input before any work.}
 ///   \cgalParamNEnd
 /// \cgalNamedParamsEnd
 ///
@@ -366,6 +399,7 @@ Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
                                const std::vector<Correspondence>& pairs,
                                const NamedParameters& np = CGAL::parameters::default_values()) {
   const Deform_options options = deform_options(np);
+  const Scoped_number_of_threads threads(internal::threads_of(np, "deform"));
   return internal::run_on_copy(tm, np, [&](internal::Work_mesh& work, const auto&) {
     return internal::deform_fine_in_place(work, network, pairs, options);
   });
@@ -438,7 +472,7 @@ Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
 ///   \cgalParamNBegin{flip_prevention_rounds}
 ///     \cgalParamDescription{the most rounds of untangling (step 4)}
 ///     \cgalParamType{an integer type}
-///     \cgalParamDefault{`10`}
+///     \cgalParamDefault{\default_flip_prevention_rounds}
 ///     \cgalParamExtra{A negative value throws meshfit::Invalid_input.}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{progress}
@@ -447,6 +481,22 @@ Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
 ///       `void` (never cancels)}
 ///     \cgalParamDefault{none: no calls, no cancelling}
 ///     \cgalParamExtra{When it returns `false`, the stage throws meshfit::Algorithm_failure. The embedding's insertion (step 2) reports its steps as this stage's.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{geom_traits}
+///     \cgalParamDescription{the geometric traits of `tm`'s points: checked at compile time to be a Cartesian kernel over `double`; the computation does not call it}
+///     \cgalParamType{a Cartesian kernel over `double` (`FT` = `double`): `CGAL::Epick`, `CGAL::Simple_cartesian<double>`;
+///       anything else (an exact kernel such as Epeck) is refused at compile time by a static assertion}
+///     \cgalParamDefault{the kernel of the point type of the `vertex_point_map` (meshfit::Kernel, Epick, for meshfit::Point_3)}
+///     \cgalParamExtra{The stage computes on a copy of the coordinates in meshfit::Kernel (exact predicates on the same
+///       doubles), so the results do not depend on this parameter.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{number_of_threads}
+///     \cgalParamDescription{the most threads (OpenMP's and OpenBLAS's, threads.h) the call uses; the counts are put back
+///       as they were when it returns or throws (meshfit::Scoped_number_of_threads)}
+///     \cgalParamType{an integer type, at least 1}
+///     \cgalParamDefault{unchanged: every core, or what `OMP_NUM_THREADS`, `OPENBLAS_NUM_THREADS` or
+///       meshfit::set_number_of_threads() set}
+///     \cgalParamExtra{A value below 1 throws meshfit::Invalid_input before any work.}
 ///   \cgalParamNEnd
 /// \cgalNamedParamsEnd
 ///
@@ -464,6 +514,7 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
                                           const std::vector<Correspondence>& pairs,
                                           const NamedParameters& np = CGAL::parameters::default_values()) {
   const Deform_options options = deform_options(np);
+  const Scoped_number_of_threads threads(internal::threads_of(np, "deform"));
   return internal::run_on_copy(tm, np, [&](internal::Work_mesh& work, const auto&) {
     return internal::deform_fine_on_surface_in_place(work, network, pairs, options);
   });
@@ -511,34 +562,34 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
 ///   \cgalParamNBegin{coarse_only}
 ///     \cgalParamDescription{stop after the coarse level}
 ///     \cgalParamType{`bool`}
-///     \cgalParamDefault{`false`}
+///     \cgalParamDefault{\default_coarse_only}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{fine_level}
 ///     \cgalParamDescription{the method of the fine level}
 ///     \cgalParamType{meshfit::Fine_level}
-///     \cgalParamDefault{`meshfit::Fine_level::surface` (deform_fine_on_surface; `Fine_level::thesis`: deform_fine)}
+///     \cgalParamDefault{\default_fine_level (deform_fine_on_surface; `Fine_level::thesis`: deform_fine)}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{rbf_kernel}
 ///     \cgalParamDescription{the basis function φ of the interpolants (the coarse one, and the fine one of `Fine_level::thesis`) (rbf.h)}
 ///     \cgalParamType{meshfit::Rbf_kernel}
-///     \cgalParamDefault{`meshfit::Rbf_kernel::linear` (φ(r) = r)}
+///     \cgalParamDefault{\default_rbf_kernel (φ(r) = r)}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{curve_density}
 ///     \cgalParamDescription{what becomes of a network vertex whose nearest template vertex is taken by another}
 ///     \cgalParamType{meshfit::Curve_density}
-///     \cgalParamDefault{`meshfit::Curve_density::refine` (it gets a vertex of its own)}
+///     \cgalParamDefault{\default_curve_density (it gets a vertex of its own)}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{flip_prevention_rounds}
 ///     \cgalParamDescription{the most rounds of flip prevention (`Fine_level::thesis`) or of untangling (`Fine_level::surface`)}
 ///     \cgalParamType{an integer type}
-///     \cgalParamDefault{`10`}
+///     \cgalParamDefault{\default_flip_prevention_rounds}
 ///     \cgalParamExtra{A negative value throws meshfit::Invalid_input.}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{memory_limit}
 ///     \cgalParamDescription{the most bytes a dense RBF system (the coarse level's, through the pairs, and the thesis fine level's) may take;
 ///       a larger system is refused with meshfit::Algorithm_failure before it is allocated}
 ///     \cgalParamType{`std::size_t`}
-///     \cgalParamDefault{`0`, which means meshfit::default_memory_limit() (an eighth of the physical memory, at most 2 GiB)}
+///     \cgalParamDefault{\default_memory_limit, which means meshfit::default_memory_limit() (an eighth of the physical memory, at most 2 GiB)}
 ///     \cgalParamExtra{Read by the fine level `Fine_level::thesis` only.}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{progress}
@@ -547,6 +598,22 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
 ///       `void` (never cancels)}
 ///     \cgalParamDefault{none: no calls, no cancelling}
 ///     \cgalParamExtra{When it returns `false`, the stage throws meshfit::Algorithm_failure.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{geom_traits}
+///     \cgalParamDescription{the geometric traits of `tm`'s points: checked at compile time to be a Cartesian kernel over `double`; the computation does not call it}
+///     \cgalParamType{a Cartesian kernel over `double` (`FT` = `double`): `CGAL::Epick`, `CGAL::Simple_cartesian<double>`;
+///       anything else (an exact kernel such as Epeck) is refused at compile time by a static assertion}
+///     \cgalParamDefault{the kernel of the point type of the `vertex_point_map` (meshfit::Kernel, Epick, for meshfit::Point_3)}
+///     \cgalParamExtra{The stage computes on a copy of the coordinates in meshfit::Kernel (exact predicates on the same
+///       doubles), so the results do not depend on this parameter.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{number_of_threads}
+///     \cgalParamDescription{the most threads (OpenMP's and OpenBLAS's, threads.h) the call uses; the counts are put back
+///       as they were when it returns or throws (meshfit::Scoped_number_of_threads)}
+///     \cgalParamType{an integer type, at least 1}
+///     \cgalParamDefault{unchanged: every core, or what `OMP_NUM_THREADS`, `OPENBLAS_NUM_THREADS` or
+///       meshfit::set_number_of_threads() set}
+///     \cgalParamExtra{A value below 1 throws meshfit::Invalid_input before any work.}
 ///   \cgalParamNEnd
 /// \cgalNamedParamsEnd
 ///
@@ -558,6 +625,7 @@ Deformation_report deform_template(TriangleMesh& tm, const Curve_network& networ
                                    const std::vector<Correspondence>& pairs,
                                    const NamedParameters& np = CGAL::parameters::default_values()) {
   const Deform_options options = deform_options(np);
+  const Scoped_number_of_threads threads(internal::threads_of(np, "deform"));
   return internal::run_on_copy(tm, np, [&](internal::Work_mesh& work, const auto&) {
     return internal::deform_template_in_place(work, network, pairs, options);
   });

@@ -235,52 +235,52 @@ void fit_work(const Mesh_data& template_data, const Curve_network& network, cons
 ///   \cgalParamNBegin{fine_level}
 ///     \cgalParamDescription{stage 1's fine level}
 ///     \cgalParamType{meshfit::Fine_level}
-///     \cgalParamDefault{`meshfit::Fine_level::surface`}
+///     \cgalParamDefault{\default_fine_level}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{rbf_kernel}
 ///     \cgalParamDescription{the basis function φ of stage 1's interpolants (rbf.h)}
 ///     \cgalParamType{meshfit::Rbf_kernel}
-///     \cgalParamDefault{`meshfit::Rbf_kernel::linear` (φ(r) = r)}
+///     \cgalParamDefault{\default_rbf_kernel (φ(r) = r)}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{curve_density}
 ///     \cgalParamDescription{what becomes of a network vertex whose nearest template vertex is taken by another}
 ///     \cgalParamType{meshfit::Curve_density}
-///     \cgalParamDefault{`meshfit::Curve_density::refine` (it gets a vertex of its own)}
+///     \cgalParamDefault{\default_curve_density (it gets a vertex of its own)}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{flip_prevention_rounds}
 ///     \cgalParamDescription{the most rounds of stage 1's flip prevention (`Fine_level::thesis`) or untangling (`Fine_level::surface`)}
 ///     \cgalParamType{an integer type}
-///     \cgalParamDefault{`10`}
+///     \cgalParamDefault{\default_flip_prevention_rounds}
 ///     \cgalParamExtra{A negative value throws meshfit::Invalid_input.}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{memory_limit}
 ///     \cgalParamDescription{the most bytes a dense RBF system (the coarse level's, through the pairs, and the thesis fine level's) may take;
 ///       a larger system is refused with meshfit::Algorithm_failure before it is allocated}
 ///     \cgalParamType{`std::size_t`}
-///     \cgalParamDefault{`0`, which means meshfit::default_memory_limit() (an eighth of the physical memory, at most 2 GiB)}
+///     \cgalParamDefault{\default_memory_limit, which means meshfit::default_memory_limit() (an eighth of the physical memory, at most 2 GiB)}
 ///     \cgalParamExtra{Read by the fine level `Fine_level::thesis` only.}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{number_of_iterations}
 ///     \cgalParamDescription{stage 3's iterations, split as smooth_fitted_mesh splits them: one fifth (rounded down)
 ///       modified mean curvature, the rest modified Laplacian}
 ///     \cgalParamType{an integer type}
-///     \cgalParamDefault{`100`}
+///     \cgalParamDefault{\default_smoothing_iterations}
 ///     \cgalParamExtra{A negative value throws meshfit::Invalid_input; `0` skips the smoothing.}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{mean_curvature_iterations}
 ///     \cgalParamDescription{the iterations of stage 3's first phase, overriding the split}
 ///     \cgalParamType{an integer type}
-///     \cgalParamDefault{`number_of_iterations / 5` (integer division): `20`}
+///     \cgalParamDefault{`number_of_iterations / 5` (integer division): \default_mean_curvature_iterations}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{laplacian_iterations}
 ///     \cgalParamDescription{the iterations of stage 3's second phase, overriding the split}
 ///     \cgalParamType{an integer type}
-///     \cgalParamDefault{`number_of_iterations - number_of_iterations / 5`: `80`}
+///     \cgalParamDefault{`number_of_iterations - number_of_iterations / 5`: \default_laplacian_iterations}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{step_size}
 ///     \cgalParamDescription{stage 3's step λ (smooth_fitted_mesh)}
 ///     \cgalParamType{`double` in (0, 1]}
-///     \cgalParamDefault{`1`}
+///     \cgalParamDefault{\default_flow_step}
 ///     \cgalParamExtra{A value outside (0, 1] throws meshfit::Invalid_input when stage 3 starts (`tm` is
 ///       unchanged).}
 ///   \cgalParamNEnd
@@ -288,7 +288,7 @@ void fit_work(const Mesh_data& template_data, const Curve_network& network, cons
 ///     \cgalParamDescription{whether the verification looks for self-intersections of the result (the most expensive
 ///       check)}
 ///     \cgalParamType{`bool`}
-///     \cgalParamDefault{`true`}
+///     \cgalParamDefault{\default_fit_check_self_intersections}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{progress}
 ///     \cgalParamDescription{a callback called at each step with a meshfit::Progress_step (stage `"fit"`)}
@@ -298,6 +298,22 @@ void fit_work(const Mesh_data& template_data, const Curve_network& network, cons
 ///     \cgalParamExtra{Every stage calls it with its own stage name (`"deform"`, `"partition"`, `"smooth"`), the
 ///       verification with `"fit"`. When it returns `false`, fit_template_to_curves throws
 ///       meshfit::Algorithm_failure and `tm` is unchanged.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{geom_traits}
+///     \cgalParamDescription{the geometric traits of `tm`'s points: checked at compile time to be a Cartesian kernel over `double`, and passed to the CGAL functions fit_template_to_curves calls on `tm` itself (PMP::compute_vertex_normal for the added vertices' geometric normals, with `vertex_normal_map`); the stages and the verification do not call it}
+///     \cgalParamType{a Cartesian kernel over `double` (`FT` = `double`): `CGAL::Epick`, `CGAL::Simple_cartesian<double>`;
+///       anything else (an exact kernel such as Epeck) is refused at compile time by a static assertion}
+///     \cgalParamDefault{the kernel of the point type of the `vertex_point_map` (meshfit::Kernel, Epick, for meshfit::Point_3)}
+///     \cgalParamExtra{The stage computes on a copy of the coordinates in meshfit::Kernel (exact predicates on the same
+///       doubles), so the results do not depend on this parameter.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{number_of_threads}
+///     \cgalParamDescription{the most threads (OpenMP's and OpenBLAS's, threads.h) the call uses; the counts are put back
+///       as they were when it returns or throws (meshfit::Scoped_number_of_threads)}
+///     \cgalParamType{an integer type, at least 1}
+///     \cgalParamDefault{unchanged: every core, or what `OMP_NUM_THREADS`, `OPENBLAS_NUM_THREADS` or
+///       meshfit::set_number_of_threads() set}
+///     \cgalParamExtra{A value below 1 throws meshfit::Invalid_input before any work.}
 ///   \cgalParamNEnd
 /// \cgalNamedParamsEnd
 ///
@@ -329,6 +345,7 @@ Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& input_n
   options.step = choose_parameter(get_parameter(np, internal_np::step_size), options.step);
   options.check_self_intersections =
       choose_parameter(get_parameter(np, internal_np::check_self_intersections), options.check_self_intersections);
+  const Scoped_number_of_threads threads(internal::threads_of(np, "fit"));
   const auto vpm = internal::vertex_point_map_of(tm, np);
   // CGAL's functions called on `tm` itself (geometric normals of added vertices) get the caller's
   // geom_traits when given; the stages and the verification compute on meshfit's copy in

@@ -27,6 +27,7 @@
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <iosfwd>
 #include <string>
 #include <vector>
@@ -119,6 +120,10 @@ struct Write_options {
   /// (CGAL's read_polygon_mesh refuses `l`, meshio an `edge` element); write_curve_edges writes
   /// them to a file of their own. `.vtp`/`.vtk` always hold them (as lines flagged `curve` = 1).
   bool curves_in_mesh = false;
+  /// For `.obj` files with regions: the name of a material library (write_material_library) that
+  /// an `mtllib` line names, each group then taking its region's material (`usemtl region_<k>`),
+  /// so that viewers (f3d) show the regions in their colours. Empty (the default): no materials.
+  std::string material_library;
 };
 
 /// Writes `mesh` in the format of the path's extension. `.obj` groups faces by region
@@ -156,9 +161,24 @@ std::string curve_edges_path(const std::string& output);
 void write_curve_edges(const std::string& path, const Mesh_data& mesh,
                        const Write_options& options = Write_options());
 
+/// Where the command line puts the material library of the `.obj` output `output`: `<output>.mtl`.
+std::string material_library_path(const std::string& output);
+/// Writes one material per region of `mesh` (`newmtl region_<k>`, `newmtl unassigned` for -1),
+/// whose diffuse colour `Kd` is region_colour(k), atomically like write_mesh_data. Nothing is
+/// written for a mesh without regions.
+/// \throws Invalid_input as write_mesh_data does.
+void write_material_library(const std::string& path, const Mesh_data& mesh,
+                            const Write_options& options = Write_options());
+
 /// \throws Invalid_input when `output` names the same file as one of `inputs` (also through
 ///         links or different spellings of the path).
 void check_output_path(const std::string& output, const std::vector<std::string>& inputs);
+
+/// The colour of region `region` in the PLY outputs (face properties `red green blue` beside
+/// `patch_id`, which viewers such as f3d show where they ignore `patch_id`): hue `region` × 0.381966
+/// (the golden angle, as in `meshfit view`) at saturation 0.65 and lightness 0.58, so neighbouring
+/// numbers differ; mid grey for a negative region (a face in no region).
+std::array<std::uint8_t, 3> region_colour(int region);
 
 // ---- one mesh per region ------------------------------------------------------------------------
 

@@ -13,25 +13,26 @@
 /// `meshfit::parameters::step_size(0.5, CGAL::parameters::number_of_iterations(5))`.
 ///
 /// The tags, their types and defaults (each function's "Optional named parameters" say which it
-/// reads):
+/// reads; the defaults shown are read from the code when the reference is built):
 ///
 /// | tag | type | default | read by |
 /// |-----|------|---------|---------|
 /// | `progress` | callable (`const Progress_step&`), returns `bool` (`false` cancels) or `void` | none (never cancels) | every stage |
-/// | `rbf_kernel` | meshfit::Rbf_kernel | `Rbf_kernel::linear` (φ(r) = r) | deform_coarse, deform_fine, deform_template, fit_template_to_curves |
-/// | `curve_density` | meshfit::Curve_density | `Curve_density::refine` | deform_fine, deform_template, fit_template_to_curves |
-/// | `coarse_only` | `bool`: deform_template stops after the coarse level | `false` | deform_template |
-/// | `step_size` | `double` λ in (0, 1] (smooth.h) | 1 | the flows of smooth.h, fit_template_to_curves |
-/// | `laplacian_weights` | meshfit::Laplacian_weights | `Laplacian_weights::uniform` | laplacian_flow, modified_laplacian_flow, smooth_fitted_mesh |
-/// | `laplacian_variant` | meshfit::Laplacian_variant (eq. 4.5/4.6) | `Laplacian_variant::none` | laplacian_flow |
-/// | `laplacian_alpha` | `double` α in [0, 1] (eq. 4.5/4.6) | 0.5 | laplacian_flow (every flow checks the range) |
+/// | `rbf_kernel` | meshfit::Rbf_kernel | \default_rbf_kernel (φ(r) = r) | deform_coarse, deform_fine, deform_template, fit_template_to_curves |
+/// | `curve_density` | meshfit::Curve_density | \default_curve_density | deform_fine, deform_template, fit_template_to_curves |
+/// | `coarse_only` | `bool`: deform_template stops after the coarse level | \default_coarse_only | deform_template |
+/// | `step_size` | `double` λ in (0, 1] (smooth.h) | \default_flow_step | the flows of smooth.h, fit_template_to_curves |
+/// | `laplacian_weights` | meshfit::Laplacian_weights | \default_flow_weights | laplacian_flow, modified_laplacian_flow, smooth_fitted_mesh |
+/// | `laplacian_variant` | meshfit::Laplacian_variant (eq. 4.5/4.6) | \default_flow_variant | laplacian_flow |
+/// | `laplacian_alpha` | `double` α in [0, 1] (eq. 4.5/4.6) | \default_flow_alpha | laplacian_flow (every flow checks the range) |
 /// | `reference_points` | `std::vector<Point_3>`, one per vertex | the positions at the call | modified_laplacian_flow |
-/// | `mean_curvature_iterations` | integer: smooth_fitted_mesh's 1st phase | `number_of_iterations / 5` (20) | smooth_fitted_mesh, fit_template_to_curves |
-/// | `laplacian_iterations` | integer: smooth_fitted_mesh's 2nd phase | the rest (80) | smooth_fitted_mesh, fit_template_to_curves |
-/// | `check_self_intersections` | `bool`: fit's final verification | `true` | fit_template_to_curves |
-/// | `fine_level` | meshfit::Fine_level (deform.h) | `Fine_level::surface` | deform_template, fit_template_to_curves |
+/// | `mean_curvature_iterations` | integer: smooth_fitted_mesh's 1st phase | `number_of_iterations / 5` (\default_mean_curvature_iterations) | smooth_fitted_mesh, fit_template_to_curves |
+/// | `laplacian_iterations` | integer: smooth_fitted_mesh's 2nd phase | the rest (\default_laplacian_iterations) | smooth_fitted_mesh, fit_template_to_curves |
+/// | `check_self_intersections` | `bool`: fit's final verification | \default_fit_check_self_intersections | fit_template_to_curves |
+/// | `fine_level` | meshfit::Fine_level (deform.h) | \default_fine_level | deform_template, fit_template_to_curves |
 /// | `memory_limit` | `std::size_t`, bytes (memory_limit.h) | default_memory_limit(): RAM / 8, at most 2 GiB (also when 0) | the coarse level's RBF and deform_fine's (so deform_coarse, deform_template and fit_template_to_curves) |
-/// | `flip_prevention_rounds` | integer ≥ 0: the most rounds of flip prevention (thesis level) or untangling (surface level) | 10 | deform_fine, deform_fine_on_surface, deform_template, fit_template_to_curves |
+/// | `flip_prevention_rounds` | integer ≥ 0: the most rounds of flip prevention (thesis level) or untangling (surface level) | \default_flip_prevention_rounds | deform_fine, deform_fine_on_surface, deform_template, fit_template_to_curves |
+/// | `number_of_threads` | integer ≥ 1: the most threads (OpenMP's and OpenBLAS's) the call uses; put back after it (threads.h) | unchanged: every core, or OMP_NUM_THREADS / set_number_of_threads() | every stage but project_segment |
 ///
 /// CGAL parameters meshfit reads: `vertex_point_map` (every function over a mesh);
 /// `number_of_iterations` (always smoothing iterations: smooth's flows, and fit's smoothing, split
@@ -86,7 +87,8 @@ using Progress_callback = std::function<bool(const Progress_step&)>;
   X(check_self_intersections)       \
   X(fine_level)                     \
   X(memory_limit)                   \
-  X(flip_prevention_rounds)
+  X(flip_prevention_rounds)         \
+  X(number_of_threads)
 
 namespace internal_np {
 #define MESHFIT_NAMED_PARAMETER_TAG(NAME) enum NAME##_t { NAME };

@@ -125,6 +125,22 @@ Partition_report partition_work(Work_mesh& tm, const Curve_network& network, con
 ///     \cgalParamDefault{none: no calls, no cancelling}
 ///     \cgalParamExtra{When it returns `false`, partition_mesh throws meshfit::Algorithm_failure.}
 ///   \cgalParamNEnd
+///   \cgalParamNBegin{geom_traits}
+///     \cgalParamDescription{the geometric traits of `tm`'s points: checked at compile time to be a Cartesian kernel over `double`; the computation does not call it}
+///     \cgalParamType{a Cartesian kernel over `double` (`FT` = `double`): `CGAL::Epick`, `CGAL::Simple_cartesian<double>`;
+///       anything else (an exact kernel such as Epeck) is refused at compile time by a static assertion}
+///     \cgalParamDefault{the kernel of the point type of the `vertex_point_map` (meshfit::Kernel, Epick, for meshfit::Point_3)}
+///     \cgalParamExtra{The stage computes on a copy of the coordinates in meshfit::Kernel (exact predicates on the same
+///       doubles), so the results do not depend on this parameter.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{number_of_threads}
+///     \cgalParamDescription{the most threads (OpenMP's and OpenBLAS's, threads.h) the call uses; the counts are put back
+///       as they were when it returns or throws (meshfit::Scoped_number_of_threads)}
+///     \cgalParamType{an integer type, at least 1}
+///     \cgalParamDefault{unchanged: every core, or what `OMP_NUM_THREADS`, `OPENBLAS_NUM_THREADS` or
+///       meshfit::set_number_of_threads() set}
+///     \cgalParamExtra{A value below 1 throws meshfit::Invalid_input before any work.}
+///   \cgalParamNEnd
 /// \cgalNamedParamsEnd
 ///
 /// \throws Invalid_input when `tm` is not a triangle mesh, the network has no segment, or a
@@ -135,6 +151,7 @@ Partition_report partition_mesh(TriangleMesh& tm, const Curve_network& network,
   using CGAL::parameters::get_parameter;
   if (!CGAL::is_triangle_mesh(tm)) throw Invalid_input("partition: the mesh is not a triangle mesh");
   if (network.number_of_segments() == 0) throw Invalid_input("partition: the curve network has no segment");
+  const Scoped_number_of_threads threads(internal::threads_of(np, "partition"));
   // The work is done on a copy (internal/commit_result.h): `tm` changes only once it is complete.
   const auto vpm = internal::vertex_point_map_of(tm, np);
   internal::Stage_copy<TriangleMesh, std::decay_t<decltype(vpm)>> copy(tm, vpm);

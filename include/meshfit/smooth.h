@@ -103,30 +103,30 @@ namespace meshfit {
 ///   \cgalParamNBegin{number_of_iterations}
 ///     \cgalParamDescription{the number of iterations}
 ///     \cgalParamType{an integer type}
-///     \cgalParamDefault{`20`}
+///     \cgalParamDefault{\default_laplacian_flow_iterations}
 ///     \cgalParamExtra{A negative value throws meshfit::Invalid_input.}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{step_size}
 ///     \cgalParamDescription{the step λ (of the umbrella operator, or of λ h̄² for the mean curvature, h̄ the mean edge
 ///       length at the call)}
 ///     \cgalParamType{`double` in (0, 1]}
-///     \cgalParamDefault{`1`}
+///     \cgalParamDefault{\default_flow_step}
 ///     \cgalParamExtra{A value outside (0, 1] throws meshfit::Invalid_input.}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{laplacian_weights}
 ///     \cgalParamDescription{the weights of the umbrella operator (eq. 4.3 or 4.4)}
 ///     \cgalParamType{meshfit::Laplacian_weights}
-///     \cgalParamDefault{`meshfit::Laplacian_weights::uniform`}
+///     \cgalParamDefault{\default_flow_weights}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{laplacian_variant}
 ///     \cgalParamDescription{Vollmer's variant (eq. 4.5, 4.6) instead of eq. 4.1}
 ///     \cgalParamType{meshfit::Laplacian_variant}
-///     \cgalParamDefault{`meshfit::Laplacian_variant::none`}
+///     \cgalParamDefault{\default_flow_variant}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{laplacian_alpha}
 ///     \cgalParamDescription{α of the variants}
 ///     \cgalParamType{`double` in [0, 1]}
-///     \cgalParamDefault{`0.5`}
+///     \cgalParamDefault{\default_flow_alpha}
 ///     \cgalParamExtra{A value outside [0, 1] throws meshfit::Invalid_input (checked by every flow).}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{vertex_is_constrained_map}
@@ -160,6 +160,22 @@ namespace meshfit {
 ///     \cgalParamExtra{One call per iteration. When it returns `false`, the flow throws meshfit::Algorithm_failure and
 ///       `tm` is unchanged.}
 ///   \cgalParamNEnd
+///   \cgalParamNBegin{geom_traits}
+///     \cgalParamDescription{the geometric traits of `tm`'s points: checked at compile time to be a Cartesian kernel over `double`; the computation does not call it}
+///     \cgalParamType{a Cartesian kernel over `double` (`FT` = `double`): `CGAL::Epick`, `CGAL::Simple_cartesian<double>`;
+///       anything else (an exact kernel such as Epeck) is refused at compile time by a static assertion}
+///     \cgalParamDefault{the kernel of the point type of the `vertex_point_map` (meshfit::Kernel, Epick, for meshfit::Point_3)}
+///     \cgalParamExtra{The stage computes on a copy of the coordinates in meshfit::Kernel (exact predicates on the same
+///       doubles), so the results do not depend on this parameter.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{number_of_threads}
+///     \cgalParamDescription{the most threads (OpenMP's and OpenBLAS's, threads.h) the call uses; the counts are put back
+///       as they were when it returns or throws (meshfit::Scoped_number_of_threads)}
+///     \cgalParamType{an integer type, at least 1}
+///     \cgalParamDefault{unchanged: every core, or what `OMP_NUM_THREADS`, `OPENBLAS_NUM_THREADS` or
+///       meshfit::set_number_of_threads() set}
+///     \cgalParamExtra{A value below 1 throws meshfit::Invalid_input before any work.}
+///   \cgalParamNEnd
 /// \cgalNamedParamsEnd///
 /// \throws Invalid_input for a face that is not a triangle, a non-finite coordinate, λ outside
 ///         (0, 1], α outside [0, 1] or a negative iteration count.
@@ -167,7 +183,7 @@ namespace meshfit {
 /// \throws Numerical_error if a position became non-finite (the guards are meant to prevent it).
 template <typename TriangleMesh, typename NamedParameters = CGAL::parameters::Default_named_parameters>
 Smoothing_report laplacian_flow(TriangleMesh& tm, const NamedParameters& np = CGAL::parameters::default_values()) {
-  return internal::run_single_flow(tm, np, internal::Flow_kind::laplacian, 20);
+  return internal::run_single_flow(tm, np, internal::Flow_kind::laplacian, internal::default_laplacian_flow_iterations);
 }
 
 /// Mean-curvature flow (eq. 4.7–4.8): p^{k+1} = p^k + τ H(p^k), H = Σ (cot α_i + cot β_i)(q_i − p^k)
@@ -185,14 +201,14 @@ Smoothing_report laplacian_flow(TriangleMesh& tm, const NamedParameters& np = CG
 ///   \cgalParamNBegin{number_of_iterations}
 ///     \cgalParamDescription{the number of iterations}
 ///     \cgalParamType{an integer type}
-///     \cgalParamDefault{`60`}
+///     \cgalParamDefault{\default_mean_curvature_flow_iterations}
 ///     \cgalParamExtra{A negative value throws meshfit::Invalid_input.}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{step_size}
 ///     \cgalParamDescription{the step λ (of the umbrella operator, or of λ h̄² for the mean curvature, h̄ the mean edge
 ///       length at the call)}
 ///     \cgalParamType{`double` in (0, 1]}
-///     \cgalParamDefault{`1`}
+///     \cgalParamDefault{\default_flow_step}
 ///     \cgalParamExtra{A value outside (0, 1] throws meshfit::Invalid_input.}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{vertex_is_constrained_map}
@@ -226,6 +242,22 @@ Smoothing_report laplacian_flow(TriangleMesh& tm, const NamedParameters& np = CG
 ///     \cgalParamExtra{One call per iteration. When it returns `false`, the flow throws meshfit::Algorithm_failure and
 ///       `tm` is unchanged.}
 ///   \cgalParamNEnd
+///   \cgalParamNBegin{geom_traits}
+///     \cgalParamDescription{the geometric traits of `tm`'s points: checked at compile time to be a Cartesian kernel over `double`; the computation does not call it}
+///     \cgalParamType{a Cartesian kernel over `double` (`FT` = `double`): `CGAL::Epick`, `CGAL::Simple_cartesian<double>`;
+///       anything else (an exact kernel such as Epeck) is refused at compile time by a static assertion}
+///     \cgalParamDefault{the kernel of the point type of the `vertex_point_map` (meshfit::Kernel, Epick, for meshfit::Point_3)}
+///     \cgalParamExtra{The stage computes on a copy of the coordinates in meshfit::Kernel (exact predicates on the same
+///       doubles), so the results do not depend on this parameter.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{number_of_threads}
+///     \cgalParamDescription{the most threads (OpenMP's and OpenBLAS's, threads.h) the call uses; the counts are put back
+///       as they were when it returns or throws (meshfit::Scoped_number_of_threads)}
+///     \cgalParamType{an integer type, at least 1}
+///     \cgalParamDefault{unchanged: every core, or what `OMP_NUM_THREADS`, `OPENBLAS_NUM_THREADS` or
+///       meshfit::set_number_of_threads() set}
+///     \cgalParamExtra{A value below 1 throws meshfit::Invalid_input before any work.}
+///   \cgalParamNEnd
 /// \cgalNamedParamsEnd///
 /// \throws Invalid_input for a face that is not a triangle, a non-finite coordinate, λ outside
 ///         (0, 1], α outside [0, 1] or a negative iteration count.
@@ -233,7 +265,8 @@ Smoothing_report laplacian_flow(TriangleMesh& tm, const NamedParameters& np = CG
 /// \throws Numerical_error if a position became non-finite (the guards are meant to prevent it).
 template <typename TriangleMesh, typename NamedParameters = CGAL::parameters::Default_named_parameters>
 Smoothing_report mean_curvature_flow(TriangleMesh& tm, const NamedParameters& np = CGAL::parameters::default_values()) {
-  return internal::run_single_flow(tm, np, internal::Flow_kind::mean_curvature, 60);
+  return internal::run_single_flow(tm, np, internal::Flow_kind::mean_curvature,
+                                   internal::default_mean_curvature_flow_iterations);
 }
 
 /// Modified mean-curvature flow (eq. 4.9, 4.12): the mean-curvature step of mean_curvature_flow,
@@ -251,14 +284,14 @@ Smoothing_report mean_curvature_flow(TriangleMesh& tm, const NamedParameters& np
 ///   \cgalParamNBegin{number_of_iterations}
 ///     \cgalParamDescription{the number of iterations}
 ///     \cgalParamType{an integer type}
-///     \cgalParamDefault{`50`}
+///     \cgalParamDefault{\default_modified_mean_curvature_flow_iterations}
 ///     \cgalParamExtra{A negative value throws meshfit::Invalid_input.}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{step_size}
 ///     \cgalParamDescription{the step λ (of the umbrella operator, or of λ h̄² for the mean curvature, h̄ the mean edge
 ///       length at the call)}
 ///     \cgalParamType{`double` in (0, 1]}
-///     \cgalParamDefault{`1`}
+///     \cgalParamDefault{\default_flow_step}
 ///     \cgalParamExtra{A value outside (0, 1] throws meshfit::Invalid_input.}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{vertex_is_constrained_map}
@@ -292,6 +325,22 @@ Smoothing_report mean_curvature_flow(TriangleMesh& tm, const NamedParameters& np
 ///     \cgalParamExtra{One call per iteration. When it returns `false`, the flow throws meshfit::Algorithm_failure and
 ///       `tm` is unchanged.}
 ///   \cgalParamNEnd
+///   \cgalParamNBegin{geom_traits}
+///     \cgalParamDescription{the geometric traits of `tm`'s points: checked at compile time to be a Cartesian kernel over `double`; the computation does not call it}
+///     \cgalParamType{a Cartesian kernel over `double` (`FT` = `double`): `CGAL::Epick`, `CGAL::Simple_cartesian<double>`;
+///       anything else (an exact kernel such as Epeck) is refused at compile time by a static assertion}
+///     \cgalParamDefault{the kernel of the point type of the `vertex_point_map` (meshfit::Kernel, Epick, for meshfit::Point_3)}
+///     \cgalParamExtra{The stage computes on a copy of the coordinates in meshfit::Kernel (exact predicates on the same
+///       doubles), so the results do not depend on this parameter.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{number_of_threads}
+///     \cgalParamDescription{the most threads (OpenMP's and OpenBLAS's, threads.h) the call uses; the counts are put back
+///       as they were when it returns or throws (meshfit::Scoped_number_of_threads)}
+///     \cgalParamType{an integer type, at least 1}
+///     \cgalParamDefault{unchanged: every core, or what `OMP_NUM_THREADS`, `OPENBLAS_NUM_THREADS` or
+///       meshfit::set_number_of_threads() set}
+///     \cgalParamExtra{A value below 1 throws meshfit::Invalid_input before any work.}
+///   \cgalParamNEnd
 /// \cgalNamedParamsEnd///
 /// \throws Invalid_input for a face that is not a triangle, a non-finite coordinate, λ outside
 ///         (0, 1], α outside [0, 1] or a negative iteration count.
@@ -300,7 +349,8 @@ Smoothing_report mean_curvature_flow(TriangleMesh& tm, const NamedParameters& np
 template <typename TriangleMesh, typename NamedParameters = CGAL::parameters::Default_named_parameters>
 Smoothing_report modified_mean_curvature_flow(TriangleMesh& tm,
                                               const NamedParameters& np = CGAL::parameters::default_values()) {
-  return internal::run_single_flow(tm, np, internal::Flow_kind::modified_mean_curvature, 50);
+  return internal::run_single_flow(tm, np, internal::Flow_kind::modified_mean_curvature,
+                                   internal::default_modified_mean_curvature_flow_iterations);
 }
 
 /// Modified Laplacian flow (eq. 4.10, 4.11, 4.13): the umbrella step λ Δ(p^k) (uniform weights,
@@ -323,20 +373,20 @@ Smoothing_report modified_mean_curvature_flow(TriangleMesh& tm,
 ///   \cgalParamNBegin{number_of_iterations}
 ///     \cgalParamDescription{the number of iterations}
 ///     \cgalParamType{an integer type}
-///     \cgalParamDefault{`50`}
+///     \cgalParamDefault{\default_modified_laplacian_flow_iterations}
 ///     \cgalParamExtra{A negative value throws meshfit::Invalid_input.}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{step_size}
 ///     \cgalParamDescription{the step λ (of the umbrella operator, or of λ h̄² for the mean curvature, h̄ the mean edge
 ///       length at the call)}
 ///     \cgalParamType{`double` in (0, 1]}
-///     \cgalParamDefault{`1`}
+///     \cgalParamDefault{\default_flow_step}
 ///     \cgalParamExtra{A value outside (0, 1] throws meshfit::Invalid_input.}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{laplacian_weights}
 ///     \cgalParamDescription{the weights of the umbrella operator (eq. 4.3 or 4.4)}
 ///     \cgalParamType{meshfit::Laplacian_weights}
-///     \cgalParamDefault{`meshfit::Laplacian_weights::uniform` (eq. 4.10)}
+///     \cgalParamDefault{\default_flow_weights (eq. 4.10)}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{reference_points}
 ///     \cgalParamDescription{the positions of the reference surface, one per vertex in the order of `vertices(tm)`
@@ -376,6 +426,22 @@ Smoothing_report modified_mean_curvature_flow(TriangleMesh& tm,
 ///     \cgalParamExtra{One call per iteration. When it returns `false`, the flow throws meshfit::Algorithm_failure and
 ///       `tm` is unchanged.}
 ///   \cgalParamNEnd
+///   \cgalParamNBegin{geom_traits}
+///     \cgalParamDescription{the geometric traits of `tm`'s points: checked at compile time to be a Cartesian kernel over `double`; the computation does not call it}
+///     \cgalParamType{a Cartesian kernel over `double` (`FT` = `double`): `CGAL::Epick`, `CGAL::Simple_cartesian<double>`;
+///       anything else (an exact kernel such as Epeck) is refused at compile time by a static assertion}
+///     \cgalParamDefault{the kernel of the point type of the `vertex_point_map` (meshfit::Kernel, Epick, for meshfit::Point_3)}
+///     \cgalParamExtra{The stage computes on a copy of the coordinates in meshfit::Kernel (exact predicates on the same
+///       doubles), so the results do not depend on this parameter.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{number_of_threads}
+///     \cgalParamDescription{the most threads (OpenMP's and OpenBLAS's, threads.h) the call uses; the counts are put back
+///       as they were when it returns or throws (meshfit::Scoped_number_of_threads)}
+///     \cgalParamType{an integer type, at least 1}
+///     \cgalParamDefault{unchanged: every core, or what `OMP_NUM_THREADS`, `OPENBLAS_NUM_THREADS` or
+///       meshfit::set_number_of_threads() set}
+///     \cgalParamExtra{A value below 1 throws meshfit::Invalid_input before any work.}
+///   \cgalParamNEnd
 /// \cgalNamedParamsEnd///
 /// \throws Invalid_input for a face that is not a triangle, a non-finite coordinate, λ outside
 ///         (0, 1], α outside [0, 1] or a negative iteration count.
@@ -385,7 +451,8 @@ Smoothing_report modified_mean_curvature_flow(TriangleMesh& tm,
 template <typename TriangleMesh, typename NamedParameters = CGAL::parameters::Default_named_parameters>
 Smoothing_report modified_laplacian_flow(TriangleMesh& tm,
                                          const NamedParameters& np = CGAL::parameters::default_values()) {
-  return internal::run_single_flow(tm, np, internal::Flow_kind::modified_laplacian, 50);
+  return internal::run_single_flow(tm, np, internal::Flow_kind::modified_laplacian,
+                                   internal::default_modified_laplacian_flow_iterations);
 }
 
 /// The thesis's method (§4.3, §4.4): modified_mean_curvature_flow to remove the distortion, then
@@ -410,32 +477,32 @@ Smoothing_report modified_laplacian_flow(TriangleMesh& tm,
 ///     \cgalParamDescription{the iterations of both phases: one fifth (rounded down) modified mean curvature, the rest
 ///       modified Laplacian}
 ///     \cgalParamType{an integer type}
-///     \cgalParamDefault{`100`}
+///     \cgalParamDefault{\default_smoothing_iterations}
 ///     \cgalParamExtra{A negative value throws meshfit::Invalid_input.}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{mean_curvature_iterations}
 ///     \cgalParamDescription{the iterations of the first phase (modified mean curvature), overriding the split}
 ///     \cgalParamType{an integer type}
-///     \cgalParamDefault{`number_of_iterations / 5` (integer division): `20`}
+///     \cgalParamDefault{`number_of_iterations / 5` (integer division): \default_mean_curvature_iterations}
 ///     \cgalParamExtra{A negative value throws meshfit::Invalid_input.}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{laplacian_iterations}
 ///     \cgalParamDescription{the iterations of the second phase (modified Laplacian), overriding the split}
 ///     \cgalParamType{an integer type}
-///     \cgalParamDefault{`number_of_iterations - number_of_iterations / 5`: `80`}
+///     \cgalParamDefault{`number_of_iterations - number_of_iterations / 5`: \default_laplacian_iterations}
 ///     \cgalParamExtra{A negative value throws meshfit::Invalid_input.}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{step_size}
 ///     \cgalParamDescription{the step of both phases λ (of the umbrella operator, or of λ h̄² for the mean curvature, h̄ the mean edge
 ///       length at the call)}
 ///     \cgalParamType{`double` in (0, 1]}
-///     \cgalParamDefault{`1`}
+///     \cgalParamDefault{\default_flow_step}
 ///     \cgalParamExtra{A value outside (0, 1] throws meshfit::Invalid_input.}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{laplacian_weights}
 ///     \cgalParamDescription{the weights of the umbrella operator (eq. 4.3 or 4.4)}
 ///     \cgalParamType{meshfit::Laplacian_weights}
-///     \cgalParamDefault{`meshfit::Laplacian_weights::uniform` (the second phase's umbrella operator)}
+///     \cgalParamDefault{\default_flow_weights (the second phase's umbrella operator)}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{vertex_is_constrained_map}
 ///     \cgalParamDescription{input: vertices that must not move}
@@ -468,6 +535,22 @@ Smoothing_report modified_laplacian_flow(TriangleMesh& tm,
 ///     \cgalParamExtra{One call per iteration of either phase, numbered through both. When it returns `false`,
 ///       smooth_fitted_mesh throws meshfit::Algorithm_failure and `tm` is unchanged.}
 ///   \cgalParamNEnd
+///   \cgalParamNBegin{geom_traits}
+///     \cgalParamDescription{the geometric traits of `tm`'s points: checked at compile time to be a Cartesian kernel over `double`; the computation does not call it}
+///     \cgalParamType{a Cartesian kernel over `double` (`FT` = `double`): `CGAL::Epick`, `CGAL::Simple_cartesian<double>`;
+///       anything else (an exact kernel such as Epeck) is refused at compile time by a static assertion}
+///     \cgalParamDefault{the kernel of the point type of the `vertex_point_map` (meshfit::Kernel, Epick, for meshfit::Point_3)}
+///     \cgalParamExtra{The stage computes on a copy of the coordinates in meshfit::Kernel (exact predicates on the same
+///       doubles), so the results do not depend on this parameter.}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{number_of_threads}
+///     \cgalParamDescription{the most threads (OpenMP's and OpenBLAS's, threads.h) the call uses; the counts are put back
+///       as they were when it returns or throws (meshfit::Scoped_number_of_threads)}
+///     \cgalParamType{an integer type, at least 1}
+///     \cgalParamDefault{unchanged: every core, or what `OMP_NUM_THREADS`, `OPENBLAS_NUM_THREADS` or
+///       meshfit::set_number_of_threads() set}
+///     \cgalParamExtra{A value below 1 throws meshfit::Invalid_input before any work.}
+///   \cgalParamNEnd
 /// \cgalNamedParamsEnd///
 /// \throws Invalid_input for a face that is not a triangle, a non-finite coordinate, λ outside
 ///         (0, 1], α outside [0, 1] or a negative iteration count.
@@ -488,6 +571,7 @@ Smoothing_report smooth_fitted_mesh(TriangleMesh& tm, const NamedParameters& np 
   second.iterations = lap;
   first.progress_total = second.progress_total = mc + lap;
   second.progress_offset = mc;
+  const Scoped_number_of_threads threads(internal::threads_of(np, "smooth"));
   internal::Smoothing_front_end<TriangleMesh, NamedParameters> fe(tm, np);
   Smoothing_report report;
   report.vertices = fe.vertex.size();

@@ -5,7 +5,8 @@
 // system, through LAPACK; CHOLMOD's factorisation always runs OpenBLAS on one thread). By default
 // both take every core. Either limit them before the program starts, with the environment variables
 // OMP_NUM_THREADS and OPENBLAS_NUM_THREADS (read once, when each library loads), or call
-// set_number_of_threads() (what `meshfit --threads N` does).
+// set_number_of_threads() (what `meshfit --threads N` does), or pass the named parameter
+// `number_of_threads(n)` to a stage, which limits them for that call only (Scoped_number_of_threads).
 #ifndef MESHFIT_THREADS_H
 #define MESHFIT_THREADS_H
 
@@ -21,6 +22,26 @@ void set_number_of_threads(int n);
 /// The number of threads an OpenMP loop of meshfit started from the calling thread would use now
 /// (`omp_get_max_threads()`; 1 in a build without OpenMP).
 int number_of_threads();
+
+/// Limits meshfit's threads to `n` as set_number_of_threads() does, for its own lifetime: the
+/// destructor puts OpenMP's (on the calling thread) and OpenBLAS's counts back as they were.
+/// `n` = 0 changes nothing. What the named parameter `number_of_threads` does around a stage.
+/// \throws Invalid_input when `n` is negative.
+class Scoped_number_of_threads {
+ public:
+  /// Sets the counts to `n` (0: leaves them).
+  explicit Scoped_number_of_threads(int n);
+  /// Puts the counts back.
+  ~Scoped_number_of_threads();
+  /// Not copyable.
+  Scoped_number_of_threads(const Scoped_number_of_threads&) = delete;
+  /// Not copyable.
+  Scoped_number_of_threads& operator=(const Scoped_number_of_threads&) = delete;
+
+ private:
+  int m_openmp = 0;    // the counts to put back; 0: nothing was changed
+  int m_openblas = 0;
+};
 
 }  // namespace meshfit
 

@@ -4,6 +4,7 @@
 #include <meshfit/deform.h>
 #include <meshfit/exceptions.h>
 #include <meshfit/fit.h>
+#include <meshfit/internal/vertex_attributes.h>
 #include <meshfit/io.h>
 #include <meshfit/memory_limit.h>
 #include <meshfit/partition.h>
@@ -514,6 +515,13 @@ std::string check_outputs(const Command_line& cl, const std::vector<std::string>
     others.push_back(curves);
     outputs.emplace_back("the curve file written beside the output", curves);
   }
+  if (meshfit::mesh_format_of(output) == meshfit::Mesh_format::obj) {
+    // The regions' materials, beside an .obj output (write_output).
+    const std::string materials = meshfit::material_library_path(output);
+    meshfit::check_output_path(materials, others);
+    others.push_back(materials);
+    outputs.emplace_back("the material library written beside the output", materials);
+  }
   pending_report.outputs["regions"] = nullptr;
   std::string report_path;
   if (cl.values.count("--report")) {
@@ -562,19 +570,15 @@ std::vector<std::string> vertex_attribute_names(const meshfit::Mesh_data& data) 
   return names;
 }
 
-/// The per-vertex attributes of a template read (Mesh_data::vertex_uvs, …): when `carried`, the
-/// command writes them to .obj and .ply outputs and warns for other formats; otherwise it warns
-/// that they are not carried, saying `why`. Called before the report is begun (its warnings).
-void note_vertex_attributes(const meshfit::Mesh_data& data, const std::string& path, const Command_line& cl,
-                            bool carried, const std::string& why) {
+/// The per-vertex attributes of a template read (Mesh_data::vertex_uvs, …): every command carries
+/// them to .obj, .ply, .vtp and .vtk outputs (VTK point data: TCoords, Normals, Colors) and warns
+/// that .off and .stl do not hold them. Called before the report is begun (its warnings).
+void note_vertex_attributes(const meshfit::Mesh_data& data, const std::string& path, const Command_line& cl) {
   const meshfit::Mesh_format format = meshfit::mesh_format_of(cl.values.at("--output"));
-  const bool holds = format == meshfit::Mesh_format::obj || format == meshfit::Mesh_format::ply;
+  if (format != meshfit::Mesh_format::off && format != meshfit::Mesh_format::stl) return;
   for (const std::string& a : vertex_attribute_names(data)) {
-    if (carried && holds) continue;
-    const std::string w = path + ": " + a + " are read and not carried to the output (" +
-                          (carried ? std::string(meshfit::to_string(format)) + " holds no vertex attributes: write .obj or .ply"
-                                   : why) +
-                          ")";
+    const std::string w = path + ": " + a + " are read and not carried to the output (" + meshfit::to_string(format) +
+                          " holds no vertex attributes: write .obj, .ply, .vtp or .vtk)";
     pending_report.warnings.push_back(w);
     if (!cl.quiet) std::cerr << "meshfit: " << pending_report.command << ": warning: " << w << "\n";
   }
@@ -610,8 +614,22 @@ void write_output(const Command_line& cl, const meshfit::Mesh_data& out, const s
   options.curves_in_mesh = cl.curves_in_mesh;
   if (!report_path.empty() && report_path != "-") options.protected_paths.push_back(report_path);
   const std::string& output = cl.values.at("--output");
+  // An .obj with regions names its material library, written beside it (not for the region files).
+  const bool materials = meshfit::mesh_format_of(output) == meshfit::Mesh_format::obj && !out.face_patch.empty();
+  const std::string materials_path = meshfit::material_library_path(output);
+  if (materials) {
+    options.material_library = std::filesystem::path(materials_path).filename().string();
+    options.protected_paths.push_back(materials_path);
+  }
   options.protected_paths.push_back(meshfit::curve_edges_path(output));
   meshfit::write_mesh_data(output, out, options);
+  options.material_library.clear();
+  if (materials) {
+    meshfit::Write_options m = options;
+    m.protected_paths.erase(std::find(m.protected_paths.begin(), m.protected_paths.end(), materials_path));
+    m.protected_paths.push_back(output);
+    meshfit::write_material_library(materials_path, out, m);
+  }
   progress_display.finish();
   if (!cl.quiet)
     std::cerr << "meshfit: " << cl.command << ": wrote " << output << " (" << out.points.size() << " vertices, "
@@ -793,8 +811,7 @@ void read_fit_inputs(const Command_line& cl, Fit_inputs& in) {
   in.template_data = meshfit::read_mesh_data(template_path, &read);
   meshfit::build_triangle_mesh(in.template_data, in.tm);
   warn_dropped_attributes(read, template_path, cl.quiet);
-  note_vertex_attributes(in.template_data, template_path, cl, cl.command == "fit",
-                         "deform adds vertices and does not interpolate attributes: fit does");
+  note_vertex_attributes(in.template_data, template_path, cl);
   in.network = meshfit::read_curve_network(cl.values.at("--curves"), merge_tolerance(cl));
   in.pairs = meshfit::read_correspondences(cl.values.at("--correspondences"), in.network);
   const meshfit::Mesh_data& template_data = in.template_data;
@@ -804,6 +821,35 @@ void read_fit_inputs(const Command_line& cl, Fit_inputs& in) {
   // Coplanar template vertices are accepted here: the RBF adds auxiliary pairs off the plane.
   meshfit::validate_correspondences(in.pairs, template_data.points, in.network, true);
   in.read_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+/// The template's vertex attributes (`td`) on deform's result `out`, whose vertex i is template
+/// vertex i, the added vertices following: the template's values as read, the added vertices'
+/// by the harmonic extension fit_template_to_curves uses (internal/vertex_attributes.h); normals
+/// normalised, or the area-weighted face normal where the extension cancels out.
+void extend_template_attributes(const meshfit::Mesh_data& td, meshfit::Mesh_data& out) {
+  using meshfit::internal::harmonic_extension;
+  if (vertex_attribute_names(td).empty()) return;
+  const meshfit::Vertex_adjacency adjacency = meshfit::internal::adjacency_of(out);
+  if (!td.vertex_uvs.empty()) out.vertex_uvs = harmonic_extension<2>(adjacency, td.vertex_uvs, "texture coordinates");
+  if (!td.vertex_colors.empty()) out.vertex_colors = harmonic_extension<4>(adjacency, td.vertex_colors, "colours");
+  if (td.vertex_normals.empty()) return;
+  out.vertex_normals = harmonic_extension<3>(adjacency, td.vertex_normals, "normals");
+  std::vector<meshfit::Vector_3> area_normal(out.points.size(), meshfit::Vector_3(0, 0, 0));
+  for (const auto& t : out.triangles) {
+    const auto n = CGAL::cross_product(out.points[t[1]] - out.points[t[0]], out.points[t[2]] - out.points[t[0]]);
+    for (std::size_t v : t) area_normal[v] = area_normal[v] + n;
+  }
+  for (std::size_t k = td.points.size(); k < out.points.size(); ++k) {
+    auto& n = out.vertex_normals[k];
+    double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (!(len > 1e-9)) {
+      n = {area_normal[k].x(), area_normal[k].y(), area_normal[k].z()};
+      len = std::sqrt(area_normal[k].squared_length());
+    }
+    if (len > 0)
+      for (double& c : n) c /= len;
+  }
 }
 
 int run_deform(const Command_line& cl) {
@@ -844,7 +890,8 @@ int run_deform(const Command_line& cl) {
               "surface points are taken by nearer ones); --curve-density drop accepts that";
   else if (failure.empty() && r.remaining_flips > 0)
     failure = meshfit::remaining_flips_message(r);
-  const meshfit::Mesh_data out = meshfit::to_mesh_data(tm);
+  meshfit::Mesh_data out = meshfit::to_mesh_data(tm);
+  if (failure.empty()) extend_template_attributes(in.template_data, out);
 
   if (!report_path.empty()) {
     std::size_t embedded = 0;
@@ -898,7 +945,7 @@ int run_partition(const Command_line& cl) {
   const meshfit::Mesh_data data = meshfit::read_mesh_data(mesh_path, &read);
   meshfit::build_triangle_mesh(data, tm);
   warn_dropped_attributes(read, mesh_path, cl.quiet);
-  note_vertex_attributes(data, mesh_path, cl, true, "");
+  note_vertex_attributes(data, mesh_path, cl);
   const meshfit::Curve_network network = meshfit::read_curve_network(curves_path, merge_tolerance(cl));
   if (tm.number_of_faces() == 0)
     throw meshfit::Invalid_input(meshfit::Input_location{mesh_path, 0, meshfit::Input_location::no_offset},
@@ -1014,7 +1061,7 @@ int run_smooth(const Command_line& cl) {
   meshfit::Mesh_read_report read_report;
   meshfit::Mesh_data data = meshfit::read_mesh_data(template_path, &read_report);
   warn_dropped_attributes(read_report, template_path, cl.quiet);
-  note_vertex_attributes(data, template_path, cl, true, "");  // smoothing moves vertices only
+  note_vertex_attributes(data, template_path, cl);  // smoothing moves vertices only
   // partition's output keeps its curve edges beside it unless --curves-in-mesh: they are the
   // constraints all the same.
   const std::string curves_beside = meshfit_cli::add_curve_edges_beside(data, template_path);

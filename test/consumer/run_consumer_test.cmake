@@ -42,7 +42,7 @@ message("exported link interface (no absolute path): ${link_interfaces}")
 run(${CMAKE_COMMAND} -S "${CONSUMER_SOURCE_DIR}" -B "${WORK_DIR}/build"
     -DCMAKE_BUILD_TYPE=${BUILD_TYPE} "-DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix")
 run(${CMAKE_COMMAND} --build "${WORK_DIR}/build")
-run("${WORK_DIR}/build/consumer" "${EXAMPLE_DATA_DIR}/curves.polylines.txt")
+run("${WORK_DIR}/build/consumer" "${EXAMPLE_DATA_DIR}")
 
 # The examples (component meshfit_examples): their sources, data and the VTK converter are
 # installed, and the installed examples build against the installed package and read the

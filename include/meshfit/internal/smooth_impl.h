@@ -33,8 +33,18 @@ struct Smoothing_arrays {
   std::vector<double> orientation_points;
 };
 
+// The defaults of stage 3's counts, written here only: the functions read them, and the reference
+// (Doxygen) shows them through aliases that CMake reads from this file (cmake/meshfit_doc_defaults.cmake).
 /// smooth_fitted_mesh's iterations in all when `number_of_iterations` is not given.
 constexpr std::size_t default_smoothing_iterations = 100;
+/// laplacian_flow's `number_of_iterations` when it is not given.
+constexpr std::size_t default_laplacian_flow_iterations = 20;
+/// mean_curvature_flow's.
+constexpr std::size_t default_mean_curvature_flow_iterations = 60;
+/// modified_mean_curvature_flow's.
+constexpr std::size_t default_modified_mean_curvature_flow_iterations = 50;
+/// modified_laplacian_flow's.
+constexpr std::size_t default_modified_laplacian_flow_iterations = 50;
 
 /// A flow's settings, with their defaults (flow_settings reads the named parameters into them).
 struct Flow_settings {
@@ -197,6 +207,7 @@ Smoothing_report run_single_flow(TriangleMesh& tm, const NamedParameters& np, Fl
                                  std::size_t default_iterations) {
   const auto t0 = std::chrono::steady_clock::now();
   Flow_settings settings = flow_settings(np, kind, default_iterations);
+  const Scoped_number_of_threads threads(threads_of(np, "smooth"));
   Smoothing_front_end<TriangleMesh, NamedParameters> fe(tm, np);
   Smoothing_report report;
   report.vertices = fe.vertex.size();

@@ -5,6 +5,7 @@
 #include <meshfit/exceptions.h>
 #include <meshfit/kernel.h>
 #include <meshfit/parameters.h>
+#include <meshfit/threads.h>
 
 #include <CGAL/Named_function_parameters.h>
 #include <CGAL/boost/graph/properties.h>
@@ -84,6 +85,20 @@ constexpr bool is_given_v = !std::is_same_v<std::decay_t<T>, CGAL::internal_np::
 template <typename T>
 constexpr bool is_given(const T&) {
   return is_given_v<T>;
+}
+
+/// The `number_of_threads` named parameter as Scoped_number_of_threads takes it: 0 when not given.
+/// \throws Invalid_input ("<stage>: number_of_threads must be at least 1, not <n>") when it is less than 1.
+template <typename NamedParameters>
+int threads_of(const NamedParameters& np, const char* stage) {
+  const auto n = CGAL::parameters::get_parameter(np, meshfit::internal_np::number_of_threads);
+  if constexpr (is_given_v<decltype(n)>) {
+    if (!(n >= 1))
+      throw Invalid_input(std::string(stage) + ": number_of_threads must be at least 1, not " + std::to_string(n));
+    return n > 4096 ? 4096 : static_cast<int>(n);
+  } else {
+    return 0;
+  }
 }
 
 /// Whether a point type has double Cartesian coordinates (x(), y(), z() of type double): every
