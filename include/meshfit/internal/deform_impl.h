@@ -304,6 +304,135 @@ void check_polylines_near(const TriangleMesh& tm, const VPM& vpm, const Curve_ne
       network, [&](std::size_t v) { return std::sqrt(tree.squared_distance(network.point(v))); }, bbox_diagonal(tm, vpm));
 }
 
+/// tracked_projections' state: each network vertex's surface point and face once known, and the
+/// queue of vertices whose neighbours are still to be found.
+template <typename TriangleMesh, typename VPM, typename Tree>
+class Projection_tracker {
+  using GT = boost::graph_traits<TriangleMesh>;
+  using face_descriptor = typename GT::face_descriptor;
+
+ public:
+  Projection_tracker(const TriangleMesh& tm, const VPM& vpm, const Tree& tree, const Curve_network& network)
+      : tm(tm), vpm(vpm), tree(tree), network(network), q(network.number_of_vertices()),
+        face_of(network.number_of_vertices(), GT::null_face()), known(network.number_of_vertices(), false),
+        seen(get(CGAL::dynamic_face_property_t<std::size_t>(), tm)),
+        face_budget(std::max<std::size_t>(num_faces(tm) / 4, 2000)) {
+    for (auto f : faces(tm)) put(seen, f, SIZE_MAX);
+  }
+
+  std::vector<Point_3> run(const std::vector<Correspondence>& pairs, std::size_t& global_jumps) {
+    seed(pairs);
+    global_jumps = 0;
+    while (!queue.empty()) {
+      const std::size_t v = queue.front();
+      queue.pop_front();
+      for (std::size_t k : network.incident_segments(v)) {
+        const auto& sg = network.segments()[k];
+        const std::size_t w = sg[0] == v ? sg[1] : sg[0];
+        if (known[w]) continue;
+        if (!place_near(v, w)) ++global_jumps;
+        queue.push_back(w);
+      }
+    }
+    return q;
+  }
+
+ private:
+  Kernel::Triangle_3 triangle(face_descriptor f) const {
+    const auto h = halfedge(f, tm);
+    return Kernel::Triangle_3(point_of<TriangleMesh>(vpm, source(h, tm)), point_of<TriangleMesh>(vpm, target(h, tm)),
+                              point_of<TriangleMesh>(vpm, target(next(h, tm), tm)));
+  }
+
+  // The starts: the user's pairs (their template vertices), then, in each component of the
+  // network with no pair, its vertex nearest to the surface.
+  void seed(const std::vector<Correspondence>& pairs) {
+    for (const Correspondence& c : pairs) {
+      if (known[c.network_vertex]) continue;
+      auto v = *std::next(vertices(tm).first, static_cast<std::ptrdiff_t>(c.template_vertex));
+      for (auto h : CGAL::halfedges_around_target(halfedge(v, tm), tm))
+        if (!is_border(h, tm)) face_of[c.network_vertex] = face(h, tm);
+      q[c.network_vertex] = point_of<TriangleMesh>(vpm, v);
+      known[c.network_vertex] = true;
+      queue.push_back(c.network_vertex);
+    }
+    std::vector<bool> component_seeded(network.number_of_components(), false);
+    for (std::size_t v : queue) component_seeded[network.component(v)] = true;
+    std::vector<std::size_t> seed_of(network.number_of_components(), SIZE_MAX);
+    std::vector<double> seed_distance(network.number_of_components(), std::numeric_limits<double>::infinity());
+    for (std::size_t v = 0; v < network.number_of_vertices(); ++v) {
+      const std::size_t c = network.component(v);
+      if (component_seeded[c]) continue;
+      const double d = CGAL::squared_distance(tree.closest_point(network.point(v)), network.point(v));
+      if (d < seed_distance[c]) seed_distance[c] = d, seed_of[c] = v;
+    }
+    for (std::size_t c = 0; c < seed_of.size(); ++c) {
+      if (seed_of[c] == SIZE_MAX) continue;
+      const auto hit = tree.closest_point_and_primitive(network.point(seed_of[c]));
+      q[seed_of[c]] = Point_3(hit.first.x(), hit.first.y(), hit.first.z());
+      face_of[seed_of[c]] = hit.second;
+      known[seed_of[c]] = true;
+      queue.push_back(seed_of[c]);
+    }
+  }
+
+  // Places w, a neighbour of the placed v, at the nearest point of the faces within reach of v's
+  // point. The faces within reach are searched nearest to w first, and the search ends at the
+  // nearest face of the whole surface when it is within reach (the usual case): that face is
+  // then the answer, found after a path's worth of faces rather than the whole disc. False when
+  // the search did not come to that face.
+  bool place_near(std::size_t v, std::size_t w) {
+    const Point_3& p = network.point(w);
+    const double reach = 2 * std::sqrt(CGAL::squared_distance(network.point(v), p)) +
+                         std::sqrt(CGAL::squared_distance(network.point(v), q[v]));
+    ++search;
+    const auto nearest = tree.closest_point_and_primitive(p);
+    const double nearest_d = CGAL::squared_distance(nearest.first, p);
+    double best = std::numeric_limits<double>::infinity();
+    face_descriptor best_face = GT::null_face();
+    bool reached_nearest = false;
+    using Entry = std::pair<double, face_descriptor>;
+    auto later = [](const Entry& a, const Entry& b) { return a.first > b.first; };
+    std::priority_queue<Entry, std::vector<Entry>, decltype(later)> heap(later);
+    heap.emplace(CGAL::squared_distance(triangle(face_of[v]), p), face_of[v]);
+    put(seen, face_of[v], search);
+    std::size_t visited = 0;
+    while (!heap.empty() && visited < face_budget) {
+      const auto [d, f] = heap.top();
+      heap.pop();
+      ++visited;
+      if (d < best) best = d, best_face = f;
+      if (f == nearest.second || d <= nearest_d) {
+        reached_nearest = true;
+        break;
+      }
+      for (auto h : CGAL::halfedges_around_face(halfedge(f, tm), tm)) {
+        const auto g = opposite(h, tm);
+        if (is_border(g, tm) || get(seen, face(g, tm)) == search) continue;
+        put(seen, face(g, tm), search);
+        const auto tg = triangle(face(g, tm));
+        if (CGAL::squared_distance(tg, q[v]) <= reach * reach) heap.emplace(CGAL::squared_distance(tg, p), face(g, tm));
+      }
+    }
+    q[w] = Kernel().construct_projected_point_3_object()(triangle(best_face), p);
+    face_of[w] = best_face;
+    known[w] = true;
+    return reached_nearest;
+  }
+
+  const TriangleMesh& tm;
+  const VPM& vpm;
+  const Tree& tree;
+  const Curve_network& network;
+  std::vector<Point_3> q;  // by network vertex: its surface point, once known
+  std::vector<face_descriptor> face_of;
+  std::vector<bool> known;
+  std::deque<std::size_t> queue;
+  decltype(get(CGAL::dynamic_face_property_t<std::size_t>(), std::declval<const TriangleMesh&>())) seen;
+  std::size_t search = 0;  // the search that marked a face in `seen`
+  const std::size_t face_budget;
+};
+
 /// The surface point of each network vertex, tracked along the curves: from the user's pairs
 /// (their template vertices), each neighbour along a segment takes the nearest point of the
 /// faces within reach of its predecessor's point (a face walk out to twice the segment's length
@@ -316,100 +445,7 @@ template <typename TriangleMesh, typename VPM, typename Tree>
 std::vector<Point_3> tracked_projections(const TriangleMesh& tm, const VPM& vpm, const Tree& tree,
                                          const Curve_network& network, const std::vector<Correspondence>& pairs,
                                          std::size_t& global_jumps) {
-  using GT = boost::graph_traits<TriangleMesh>;
-  using face_descriptor = typename GT::face_descriptor;
-  const std::size_t nv = network.number_of_vertices();
-  std::vector<Point_3> q(nv);
-  std::vector<face_descriptor> face_of(nv, GT::null_face());
-  std::vector<bool> known(nv, false);
-  std::deque<std::size_t> queue;
-  auto triangle = [&](face_descriptor f) {
-    const auto h = halfedge(f, tm);
-    return Kernel::Triangle_3(point_of<TriangleMesh>(vpm, source(h, tm)), point_of<TriangleMesh>(vpm, target(h, tm)),
-                              point_of<TriangleMesh>(vpm, target(next(h, tm), tm)));
-  };
-  for (const Correspondence& c : pairs) {
-    if (known[c.network_vertex]) continue;
-    auto v = *std::next(vertices(tm).first, static_cast<std::ptrdiff_t>(c.template_vertex));
-    for (auto h : CGAL::halfedges_around_target(halfedge(v, tm), tm))
-      if (!is_border(h, tm)) face_of[c.network_vertex] = face(h, tm);
-    q[c.network_vertex] = point_of<TriangleMesh>(vpm, v);
-    known[c.network_vertex] = true;
-    queue.push_back(c.network_vertex);
-  }
-  global_jumps = 0;
-  std::vector<bool> component_seeded(network.number_of_components(), false);
-  for (std::size_t v : queue) component_seeded[network.component(v)] = true;
-  std::vector<std::size_t> seed_of(network.number_of_components(), SIZE_MAX);
-  std::vector<double> seed_distance(network.number_of_components(), std::numeric_limits<double>::infinity());
-  for (std::size_t v = 0; v < nv; ++v) {
-    const std::size_t c = network.component(v);
-    if (component_seeded[c]) continue;
-    const double d = CGAL::squared_distance(tree.closest_point(network.point(v)), network.point(v));
-    if (d < seed_distance[c]) seed_distance[c] = d, seed_of[c] = v;
-  }
-  for (std::size_t c = 0; c < seed_of.size(); ++c) {
-    if (seed_of[c] == SIZE_MAX) continue;
-    const auto hit = tree.closest_point_and_primitive(network.point(seed_of[c]));
-    q[seed_of[c]] = Point_3(hit.first.x(), hit.first.y(), hit.first.z());
-    face_of[seed_of[c]] = hit.second;
-    known[seed_of[c]] = true;
-    queue.push_back(seed_of[c]);
-  }
-  auto seen = get(CGAL::dynamic_face_property_t<std::size_t>(), tm);
-  for (auto f : faces(tm)) put(seen, f, SIZE_MAX);
-  std::size_t search = 0;
-  const std::size_t face_budget = std::max<std::size_t>(num_faces(tm) / 4, 2000);
-  while (!queue.empty()) {
-    const std::size_t v = queue.front();
-    queue.pop_front();
-    for (std::size_t k : network.incident_segments(v)) {
-      const auto& sg = network.segments()[k];
-      const std::size_t w = sg[0] == v ? sg[1] : sg[0];
-      if (known[w]) continue;
-      const Point_3& p = network.point(w);
-      const double reach = 2 * std::sqrt(CGAL::squared_distance(network.point(v), p)) +
-                           std::sqrt(CGAL::squared_distance(network.point(v), q[v]));
-      ++search;
-      // The faces within reach are searched nearest to p first, and the search ends at the nearest
-      // face of the whole surface when it is within reach (the usual case): that face is then the
-      // answer, found after a path's worth of faces rather than the whole disc.
-      const auto nearest = tree.closest_point_and_primitive(p);
-      const double nearest_d = CGAL::squared_distance(nearest.first, p);
-      double best = std::numeric_limits<double>::infinity();
-      face_descriptor best_face = GT::null_face();
-      bool reached_nearest = false;
-      using Entry = std::pair<double, face_descriptor>;
-      auto later = [](const Entry& a, const Entry& b) { return a.first > b.first; };
-      std::priority_queue<Entry, std::vector<Entry>, decltype(later)> heap(later);
-      heap.emplace(CGAL::squared_distance(triangle(face_of[v]), p), face_of[v]);
-      put(seen, face_of[v], search);
-      std::size_t visited = 0;
-      while (!heap.empty() && visited < face_budget) {
-        const auto [d, f] = heap.top();
-        heap.pop();
-        ++visited;
-        if (d < best) best = d, best_face = f;
-        if (f == nearest.second || d <= nearest_d) {
-          reached_nearest = true;
-          break;
-        }
-        for (auto h : CGAL::halfedges_around_face(halfedge(f, tm), tm)) {
-          const auto g = opposite(h, tm);
-          if (is_border(g, tm) || get(seen, face(g, tm)) == search) continue;
-          put(seen, face(g, tm), search);
-          const auto tg = triangle(face(g, tm));
-          if (CGAL::squared_distance(tg, q[v]) <= reach * reach) heap.emplace(CGAL::squared_distance(tg, p), face(g, tm));
-        }
-      }
-      q[w] = Kernel().construct_projected_point_3_object()(triangle(best_face), p);
-      face_of[w] = best_face;
-      known[w] = true;
-      if (!reached_nearest) ++global_jumps;
-      queue.push_back(w);
-    }
-  }
-  return q;
+  return Projection_tracker<TriangleMesh, VPM, Tree>(tm, vpm, tree, network).run(pairs, global_jumps);
 }
 
 inline void check_pairs(const std::vector<Correspondence>& pairs, std::size_t template_vertices,
@@ -499,6 +535,175 @@ Approach_result approach_curves(TriangleMesh& tm, const VPM& vpm, const Curve_ne
   return result;
 }
 
+/// The state of approach_curves_icp: the mesh's faces by index and the edges its fold test leaves
+/// out, and the three parts of a step (constraints, bad faces, untangling).
+template <typename TriangleMesh, typename VPM>
+class Icp_approach {
+ public:
+  Icp_approach(TriangleMesh& tm, const VPM& vpm)
+      : tm(tm), vpm(vpm), s(tm, vpm), n(s.vertex.size()), adjacency(s.adjacency()),
+        face_index(get(CGAL::dynamic_face_property_t<std::size_t>(), tm)) {
+    for (auto f : faces(tm)) {
+      put(face_index, f, corners.size());
+      corners.push_back(s.corners(f));
+    }
+    // Edges exempt from the fold test: folded or sharp on the coarse surface.
+    const std::vector<Point_3> p = s.positions();
+    s.folded_faces(p, &exempt);
+    auto normal = [&](auto h) {
+      const auto& c = corners[get(face_index, face(h, tm))];
+      return CGAL::cross_product(p[c[1]] - p[c[0]], p[c[2]] - p[c[0]]);
+    };
+    std::size_t k = 0;
+    for (auto e : edges(tm)) {
+      const std::size_t ek = k++;
+      const auto h = halfedge(e, tm), g = opposite(h, tm);
+      if (is_border(h, tm) || is_border(g, tm)) continue;
+      const Vector_3 a = normal(h), b = normal(g);
+      if (!(a * b > 0.5 * std::sqrt(a.squared_length() * b.squared_length()))) exempt[ek] = true;
+    }
+  }
+
+  Approach_result run(const Curve_network& network, const std::vector<Correspondence>& pairs) {
+    const double h = mean_edge_length(tm, vpm);
+    Approach_result result;
+    double stiffness = 10;
+    for (int step = 0; step < 6; ++step, stiffness /= 4) {
+      const std::vector<Point_3> before = s.positions();
+      const std::vector<Soft_displacement> constraints = surface_constraints(network, pairs, before);
+      result.constraints = constraints.size();
+      // Done when every network vertex is within a quarter of an edge of its surface point: what is
+      // left is finer than the mesh (the 81 920-face scale case is there after one step; five more
+      // cost 12 s and moved nothing that mattered).
+      double largest_gap = 0;
+      for (const Soft_displacement& c : constraints) largest_gap = std::max(largest_gap, c.target.squared_length());
+      if (largest_gap < 0.0625 * h * h) break;
+      const double scale = take_step(before, fit_displacements(adjacency, constraints, stiffness));
+      if (scale == 0) break;
+      result.scale = scale;
+    }
+    return result;
+  }
+
+ private:
+  using Fold = std::array<std::size_t, 2>;  // the two faces beside a folded edge
+
+  // Every network vertex's surface point (tracked along the curves: tracked_projections), asked
+  // to move onto the vertex: a constraint on the point of its face, by barycentric weights.
+  std::vector<Soft_displacement> surface_constraints(const Curve_network& network, const std::vector<Correspondence>& pairs,
+                                                     const std::vector<Point_3>& before) const {
+    using Primitive = CGAL::AABB_face_graph_triangle_primitive<TriangleMesh, VPM>;
+    using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+    std::vector<Soft_displacement> constraints;
+    Tree tree(faces(tm).first, faces(tm).second, tm, vpm);
+    tree.accelerate_distance_queries();
+    std::size_t off_nearest = 0;
+    const std::vector<Point_3> surface_point = tracked_projections(tm, vpm, tree, network, pairs, off_nearest);
+    for (std::size_t v = 0; v < network.number_of_vertices(); ++v) {
+      const auto& c = corners[get(face_index, tree.closest_point_and_primitive(surface_point[v]).second)];
+      // The surface point's barycentric coordinates in its face (a weight, not a decision).
+      const Vector_3 e0 = before[c[1]] - before[c[0]], e1 = before[c[2]] - before[c[0]],
+                     e2 = surface_point[v] - before[c[0]];
+      const double d00 = e0 * e0, d01 = e0 * e1, d11 = e1 * e1, d20 = e2 * e0, d21 = e2 * e1;
+      const double den = d00 * d11 - d01 * d01;
+      double b1 = den > 0 ? (d11 * d20 - d01 * d21) / den : 0, b2 = den > 0 ? (d00 * d21 - d01 * d20) / den : 0;
+      b1 = std::clamp(b1, 0.0, 1.0);
+      b2 = std::clamp(b2, 0.0, 1.0 - b1);
+      constraints.push_back({c, {1 - b1 - b2, b1, b2}, network.point(v) - surface_point[v], 1});
+    }
+    return constraints;
+  }
+
+  // The faces turned over against their normals before the step, then those beside a folded edge;
+  // `folds` gets the folded edges.
+  std::vector<std::size_t> bad_faces(const std::vector<Point_3>& p, const std::vector<Vector_3>& face_normal,
+                                     std::vector<Fold>& folds) const {
+    std::vector<std::size_t> bad;
+    for (std::size_t k = 0; k < corners.size(); ++k) {
+      const auto& c = corners[k];
+      if (CGAL::orientation(p[c[0]], p[c[1]], p[c[2]], p[c[0]] + face_normal[k]) != CGAL::POSITIVE) bad.push_back(k);
+    }
+    const auto folded = s.folded_faces(p, nullptr, &exempt);
+    folds.clear();
+    for (std::size_t j = 0; j + 1 < folded.size(); j += 2)
+      folds.push_back({get(face_index, folded[j]), get(face_index, folded[j + 1])});
+    for (auto f : folded) bad.push_back(get(face_index, f));
+    return bad;
+  }
+
+  // The motion `d` from `before`, halved while it leaves bad faces that untangle cannot mend, and
+  // applied; the scale it was applied at, or 0 when it could not be.
+  double take_step(const std::vector<Point_3>& before, const std::vector<Vector_3>& d) {
+    // Faces judged against their normals before the step; vertices move in their tangent planes.
+    std::vector<Vector_3> face_normal, vertex_normal(n, Vector_3(0, 0, 0));
+    for (const auto& c : corners) {
+      face_normal.push_back(CGAL::cross_product(before[c[1]] - before[c[0]], before[c[2]] - before[c[0]]));
+      for (std::size_t k : c) vertex_normal[k] = vertex_normal[k] + face_normal.back();
+    }
+    // A face of no area has no normal to judge it by (untangle_faces refuses it): the approach
+    // ends. (The example translated by 1e15, whose x coordinates are multiples of 1/8, has such.)
+    if (std::any_of(face_normal.begin(), face_normal.end(), [](const Vector_3& v) { return v == CGAL::NULL_VECTOR; }))
+      return 0;
+    for (double scale = 1; scale > 0.2; scale /= 2) {
+      std::vector<Point_3> after(n);
+      for (std::size_t i = 0; i < n; ++i) after[i] = before[i] + scale * d[i];
+      std::vector<Fold> folds;
+      std::vector<std::size_t> bad = bad_faces(after, face_normal, folds);
+      for (std::size_t rings : {2, 6}) {
+        if (bad.empty()) break;
+        untangle(after, bad, folds, rings, face_normal, vertex_normal);
+      }
+      if (!bad.empty()) continue;
+      s.set_positions(after);
+      return scale;
+    }
+    return 0;
+  }
+
+  // Untangles the free vertices up to `rings` edges from the bad faces (the border stays); keeps
+  // the result when it leaves fewer bad faces.
+  void untangle(std::vector<Point_3>& after, std::vector<std::size_t>& bad, std::vector<Fold>& folds, std::size_t rings,
+                const std::vector<Vector_3>& face_normal, const std::vector<Vector_3>& vertex_normal) const {
+    std::vector<bool> free(n, false);
+    std::vector<std::size_t> ring;
+    for (std::size_t k : bad)
+      for (std::size_t c : corners[k])
+        if (!free[c]) free[c] = true, ring.push_back(c);
+    for (std::size_t grow = 0; grow < rings; ++grow) {
+      std::vector<std::size_t> next;
+      for (std::size_t i : ring)
+        for (std::size_t k = adjacency.offsets[i]; k < adjacency.offsets[i + 1]; ++k)
+          if (!free[adjacency.neighbours[k]]) free[adjacency.neighbours[k]] = true, next.push_back(adjacency.neighbours[k]);
+      ring.swap(next);
+    }
+    for (std::size_t i = 0; i < n; ++i)
+      if (free[i] && is_border(s.vertex[i], tm)) free[i] = false;
+    // A face beside a folded edge is judged against the other face's normal as well: the fold
+    // turns it over against that normal, which the untangling then sees (real-dino: a fold
+    // between two faces of 1/20 000 of the mean area stopped the first step; with this, two
+    // steps are made instead of none, and every segment is embedded).
+    std::vector<std::array<std::size_t, 3>> judged = corners;
+    std::vector<Vector_3> judged_normal = face_normal;
+    for (const auto& [f, g] : folds) {
+      judged.push_back(corners[f]), judged_normal.push_back(face_normal[g]);
+      judged.push_back(corners[g]), judged_normal.push_back(face_normal[f]);
+    }
+    std::vector<Point_3> trial = untangle_faces(after, judged, judged_normal, free, vertex_normal, 1.0);
+    std::vector<Fold> trial_folds;
+    std::vector<std::size_t> now = bad_faces(trial, face_normal, trial_folds);
+    if (now.size() < bad.size()) after.swap(trial), bad.swap(now), folds.swap(trial_folds);
+  }
+
+  TriangleMesh& tm;
+  VPM vpm;
+  Deform_state<TriangleMesh, VPM> s;
+  std::size_t n;
+  Vertex_adjacency adjacency;
+  std::vector<std::array<std::size_t, 3>> corners;  // by face index
+  typename boost::property_map<TriangleMesh, CGAL::dynamic_face_property_t<std::size_t>>::type face_index;
+  std::vector<bool> exempt;  // by edge
+};
+
 /// Non-rigid ICP: brings the coarse surface towards the curves in up to six steps of falling
 /// stiffness (10, then a quarter of the last), before the curves are embedded in it. Each step
 /// takes every network vertex's surface point (tracked along the curves: tracked_projections)
@@ -515,138 +720,7 @@ Approach_result approach_curves(TriangleMesh& tm, const VPM& vpm, const Curve_ne
 template <typename TriangleMesh, typename VPM>
 Approach_result approach_curves_icp(TriangleMesh& tm, const VPM& vpm, const Curve_network& network,
                                     const std::vector<Correspondence>& pairs) {
-  using Primitive = CGAL::AABB_face_graph_triangle_primitive<TriangleMesh, VPM>;
-  using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
-  Deform_state<TriangleMesh, VPM> s(tm, vpm);
-  const std::size_t n = s.vertex.size();
-  const Vertex_adjacency adjacency = s.adjacency();
-  std::vector<std::array<std::size_t, 3>> corners;
-  auto face_index = get(CGAL::dynamic_face_property_t<std::size_t>(), tm);
-  for (auto f : faces(tm)) {
-    put(face_index, f, corners.size());
-    corners.push_back(s.corners(f));
-  }
-  // Edges exempt from the fold test: folded or sharp on the coarse surface.
-  std::vector<bool> exempt;
-  s.folded_faces(s.positions(), &exempt);
-  {
-    const std::vector<Point_3> p = s.positions();
-    auto normal = [&](auto h) {
-      const auto& c = corners[get(face_index, face(h, tm))];
-      return CGAL::cross_product(p[c[1]] - p[c[0]], p[c[2]] - p[c[0]]);
-    };
-    std::size_t k = 0;
-    for (auto e : edges(tm)) {
-      const std::size_t ek = k++;
-      const auto h = halfedge(e, tm), g = opposite(h, tm);
-      if (is_border(h, tm) || is_border(g, tm)) continue;
-      const Vector_3 a = normal(h), b = normal(g);
-      if (!(a * b > 0.5 * std::sqrt(a.squared_length() * b.squared_length()))) exempt[ek] = true;
-    }
-  }
-  const double h = mean_edge_length(tm, vpm);
-  Approach_result result;
-  double stiffness = 10;
-  for (int step = 0; step < 6; ++step, stiffness /= 4) {
-    const std::vector<Point_3> before = s.positions();
-    std::vector<Soft_displacement> constraints;
-    {
-      Tree tree(faces(tm).first, faces(tm).second, tm, vpm);
-      tree.accelerate_distance_queries();
-      std::size_t off_nearest = 0;
-      const std::vector<Point_3> surface_point = tracked_projections(tm, vpm, tree, network, pairs, off_nearest);
-      for (std::size_t v = 0; v < network.number_of_vertices(); ++v) {
-        const auto& c = corners[get(face_index, tree.closest_point_and_primitive(surface_point[v]).second)];
-        // The surface point's barycentric coordinates in its face (a weight, not a decision).
-        const Vector_3 e0 = before[c[1]] - before[c[0]], e1 = before[c[2]] - before[c[0]],
-                       e2 = surface_point[v] - before[c[0]];
-        const double d00 = e0 * e0, d01 = e0 * e1, d11 = e1 * e1, d20 = e2 * e0, d21 = e2 * e1;
-        const double den = d00 * d11 - d01 * d01;
-        double b1 = den > 0 ? (d11 * d20 - d01 * d21) / den : 0, b2 = den > 0 ? (d00 * d21 - d01 * d20) / den : 0;
-        b1 = std::clamp(b1, 0.0, 1.0);
-        b2 = std::clamp(b2, 0.0, 1.0 - b1);
-        constraints.push_back({c, {1 - b1 - b2, b1, b2}, network.point(v) - surface_point[v], 1});
-      }
-    }
-    result.constraints = constraints.size();
-    // Done when every network vertex is within a quarter of an edge of its surface point: what is
-    // left is finer than the mesh (the 81 920-face scale case is there after one step; five more
-    // cost 12 s and moved nothing that mattered).
-    double largest_gap = 0;
-    for (const Soft_displacement& c : constraints) largest_gap = std::max(largest_gap, c.target.squared_length());
-    if (largest_gap < 0.0625 * h * h) break;
-    const std::vector<Vector_3> d = fit_displacements(adjacency, constraints, stiffness);
-    // Faces judged against their normals before the step; vertices move in their tangent planes.
-    std::vector<Vector_3> face_normal, vertex_normal(n, Vector_3(0, 0, 0));
-    for (const auto& c : corners) {
-      face_normal.push_back(CGAL::cross_product(before[c[1]] - before[c[0]], before[c[2]] - before[c[0]]));
-      for (std::size_t k : c) vertex_normal[k] = vertex_normal[k] + face_normal.back();
-    }
-    // A face of no area has no normal to judge it by (untangle_faces refuses it): the approach
-    // ends. (The example translated by 1e15, whose x coordinates are multiples of 1/8, has such.)
-    if (std::any_of(face_normal.begin(), face_normal.end(), [](const Vector_3& v) { return v == CGAL::NULL_VECTOR; }))
-      break;
-    // The faces turned over, then those beside a folded edge; `folds` gets the folded edges as the
-    // pairs of faces (f, g) beside them.
-    using Fold = std::array<std::size_t, 2>;
-    auto bad_faces = [&](const std::vector<Point_3>& p, std::vector<Fold>& folds) {
-      std::vector<std::size_t> bad;
-      for (std::size_t k = 0; k < corners.size(); ++k) {
-        const auto& c = corners[k];
-        if (CGAL::orientation(p[c[0]], p[c[1]], p[c[2]], p[c[0]] + face_normal[k]) != CGAL::POSITIVE) bad.push_back(k);
-      }
-      const auto folded = s.folded_faces(p, nullptr, &exempt);
-      folds.clear();
-      for (std::size_t j = 0; j + 1 < folded.size(); j += 2)
-        folds.push_back({get(face_index, folded[j]), get(face_index, folded[j + 1])});
-      for (auto f : folded) bad.push_back(get(face_index, f));
-      return bad;
-    };
-    bool moved = false;
-    for (double scale = 1; scale > 0.2 && !moved; scale /= 2) {
-      std::vector<Point_3> after(n);
-      for (std::size_t i = 0; i < n; ++i) after[i] = before[i] + scale * d[i];
-      std::vector<Fold> folds;
-      std::vector<std::size_t> bad = bad_faces(after, folds);
-      for (std::size_t rings : {2, 6}) {
-        if (bad.empty()) break;
-        std::vector<bool> free(n, false);
-        std::vector<std::size_t> ring;
-        for (std::size_t k : bad)
-          for (std::size_t c : corners[k])
-            if (!free[c]) free[c] = true, ring.push_back(c);
-        for (std::size_t grow = 0; grow < rings; ++grow) {
-          std::vector<std::size_t> next;
-          for (std::size_t i : ring)
-            for (std::size_t k = adjacency.offsets[i]; k < adjacency.offsets[i + 1]; ++k)
-              if (!free[adjacency.neighbours[k]]) free[adjacency.neighbours[k]] = true, next.push_back(adjacency.neighbours[k]);
-          ring.swap(next);
-        }
-        for (std::size_t i = 0; i < n; ++i)
-          if (free[i] && is_border(s.vertex[i], tm)) free[i] = false;
-        // A face beside a folded edge is judged against the other face's normal as well: the fold
-        // turns it over against that normal, which the untangling then sees (real-dino: a fold
-        // between two faces of 1/20 000 of the mean area stopped the first step; with this, two
-        // steps are made instead of none, and every segment is embedded).
-        std::vector<std::array<std::size_t, 3>> judged = corners;
-        std::vector<Vector_3> judged_normal = face_normal;
-        for (const auto& [f, g] : folds) {
-          judged.push_back(corners[f]), judged_normal.push_back(face_normal[g]);
-          judged.push_back(corners[g]), judged_normal.push_back(face_normal[f]);
-        }
-        std::vector<Point_3> trial = untangle_faces(after, judged, judged_normal, free, vertex_normal, 1.0);
-        std::vector<Fold> trial_folds;
-        std::vector<std::size_t> now = bad_faces(trial, trial_folds);
-        if (now.size() < bad.size()) after.swap(trial), bad.swap(now), folds.swap(trial_folds);
-      }
-      if (!bad.empty()) continue;
-      s.set_positions(after);
-      result.scale = scale;
-      moved = true;
-    }
-    if (!moved) break;
-  }
-  return result;
+  return Icp_approach<TriangleMesh, VPM>(tm, vpm).run(network, pairs);
 }
 
 /// deform_fine_on_surface on the network as it is (its long segments not cut); compiled once in
