@@ -280,89 +280,97 @@ void fill_displacements(const std::vector<double>& before, const std::vector<dou
 
 namespace {
 
-// run_flow on points of order one (see run_flow below).
-void run_flow_unit(Smoothing_arrays& m, const Flow_settings& s, Smoothing_report& report) {
-  Fp_trap_scope traps;
-  check_smoothing_input(m);
-  const Topology t(m);
-  const std::size_t n = t.n, nf = t.nf;
-  const std::ptrdiff_t sn = std::ptrdiff_t(n), snf = std::ptrdiff_t(nf);
-  const bool modified = s.kind == Flow_kind::modified_mean_curvature || s.kind == Flow_kind::modified_laplacian;
-  const bool curvature = s.kind == Flow_kind::mean_curvature || s.kind == Flow_kind::modified_mean_curvature;
-  // The original positions p^0 (eq. 4.6) and the modified Laplacian's reference surface.
-  const std::vector<double> p0 = m.points;
-  const std::vector<double>& reference = m.reference_points.empty() ? p0 : m.reference_points;
-  const std::vector<double>& oriented = m.orientation_points.size() == p0.size() ? m.orientation_points : p0;
-  // The mean-curvature time step: λ h̄², so that λ is dimensionless (smooth.h).
-  const double tau = s.step * t.mean_edge * t.mean_edge;
-  const double min_distance = 1e-6 * t.mean_edge;
-  // Threads only pay off on large meshes: a step costs tens of nanoseconds per vertex, and on a
-  // busy machine every barrier of a small mesh's step can cost a scheduler time slice.
-  const bool parallel = n >= 50000;
-
-  // The normals of the faces at the call (zero for a face of zero area), for the flip guard.
-  std::vector<double> initial_normal(3 * nf);
-  for (std::size_t f = 0; f < nf; ++f) {
-    const auto& tri = m.triangles[f];
-    const V3 a = load(oriented.data(), tri[0]), b = load(oriented.data(), tri[1]), c = load(oriented.data(), tri[2]);
-    store(initial_normal.data(), f, cross(b - a, c - a));
-  }
-
-  // Each vertex's face of the reference surface (the modified Laplacian walks on from there).
-  std::vector<std::uint32_t> home(n, no_face);
-  for (std::size_t i = 0; i < n; ++i)
-    if (t.vf_start[i] < t.vf_start[i + 1]) home[i] = t.vf[t.vf_start[i]];
-
-  std::vector<double> cur = m.points, next(3 * n);
-  std::vector<double> disp(3 * n, 0.0), scale(n), face_area2, edge_w;
-  std::vector<std::array<double, 3>> face_cot;
-  std::vector<std::uint32_t> landing(n);
-  std::vector<unsigned char> walk_clamped(n), flipped(nf);
-  // Round stamps of the flip guard (which vertices and faces a round has already visited);
-  // rounds are numbered from 1 in every iteration, so the stamps are reset per iteration.
-  std::vector<std::uint32_t> vertex_round(n), face_round(nf);
-  std::vector<int> halvings(n);
-  if (curvature) {
-    face_area2.resize(nf);
-    face_cot.resize(nf);
-    edge_w.resize(t.edge_vertices.size());
-  }
-
-  for (std::size_t it = 0; it < s.iterations; ++it) {
-    if (s.on_iteration && !s.on_iteration(s.progress_offset + it, s.progress_total ? s.progress_total : s.iterations))
-      throw Cancelled("smooth");
-    const double* P = cur.data();
-
-    std::size_t clamped_cot = 0;
-    if (curvature) {
-#pragma omp parallel for schedule(static) if (parallel) reduction(+ : clamped_cot)
-      for (std::ptrdiff_t f = 0; f < snf; ++f) {
-        const auto& tri = m.triangles[std::size_t(f)];
-        const V3 v[3] = {load(P, tri[0]), load(P, tri[1]), load(P, tri[2])};
-        const V3 nrm = cross(v[1] - v[0], v[2] - v[0]);
-        const double area2 = std::sqrt(dot(nrm, nrm));  // |u × w| at every corner
-        face_area2[std::size_t(f)] = area2;
-        for (int k = 0; k < 3; ++k) {
-          const V3 u = v[(k + 1) % 3] - v[k], w = v[(k + 2) % 3] - v[k];
-          const double lower = sin_one_degree * std::sqrt(dot(u, u) * dot(w, w));
-          double cot = 0;
-          if (!(lower > 0)) {
-            ++clamped_cot;  // a zero-length edge: the angle is undefined, weight 0
-          } else if (area2 < lower) {
-            ++clamped_cot;
-            cot = dot(u, w) / lower;
-          } else {
-            cot = dot(u, w) / area2;
-          }
-          face_cot[std::size_t(f)][std::size_t(k)] = cot;
-        }
-      }
-      std::fill(edge_w.begin(), edge_w.end(), 0.0);
-      for (std::size_t f = 0; f < nf; ++f)
-        for (int k = 0; k < 3; ++k) edge_w[t.face_edge[f][std::size_t(k)]] += face_cot[f][std::size_t(k)];
+// One run of a flow (run_flow_unit): the mesh's topology and the flow's constants, the state
+// that iterations carry, and the parts of one iteration.
+class Flow_run {
+ public:
+  Flow_run(Smoothing_arrays& m, const Flow_settings& s, Smoothing_report& report)
+      : m(m), s(s), report(report), t(m), n(t.n), nf(t.nf), sn(std::ptrdiff_t(n)), snf(std::ptrdiff_t(nf)),
+        modified(s.kind == Flow_kind::modified_mean_curvature || s.kind == Flow_kind::modified_laplacian),
+        curvature(s.kind == Flow_kind::mean_curvature || s.kind == Flow_kind::modified_mean_curvature),
+        p0(m.points), reference(m.reference_points.empty() ? p0 : m.reference_points),
+        oriented(m.orientation_points.size() == p0.size() ? m.orientation_points : p0),
+        tau(s.step * t.mean_edge * t.mean_edge), min_distance(1e-6 * t.mean_edge), parallel(n >= 50000) {
+    // The normals of the faces at the call (zero for a face of zero area), for the flip guard.
+    initial_normal.resize(3 * nf);
+    for (std::size_t f = 0; f < nf; ++f) {
+      const auto& tri = m.triangles[f];
+      const V3 a = load(oriented.data(), tri[0]), b = load(oriented.data(), tri[1]), c = load(oriented.data(), tri[2]);
+      store(initial_normal.data(), f, cross(b - a, c - a));
     }
+    // Each vertex's face of the reference surface (the modified Laplacian walks on from there).
+    home.assign(n, no_face);
+    for (std::size_t i = 0; i < n; ++i)
+      if (t.vf_start[i] < t.vf_start[i + 1]) home[i] = t.vf[t.vf_start[i]];
+    cur = m.points;
+    next.resize(3 * n);
+    disp.assign(3 * n, 0.0);
+    scale.resize(n);
+    landing.resize(n);
+    walk_clamped.resize(n);
+    flipped.resize(nf);
+    vertex_round.resize(n);
+    face_round.resize(nf);
+    halvings.resize(n);
+    if (curvature) {
+      face_area2.resize(nf);
+      face_cot.resize(nf);
+      edge_w.resize(t.edge_vertices.size());
+    }
+  }
 
-    // The step of every free vertex, before projection and flip guard.
+  void run() {
+    for (std::size_t it = 0; it < s.iterations; ++it) {
+      if (s.on_iteration && !s.on_iteration(s.progress_offset + it, s.progress_total ? s.progress_total : s.iterations))
+        throw Cancelled("smooth");
+      P = cur.data();
+      const std::size_t clamped_cot = curvature ? cotangent_weights() : 0;
+      compute_steps();
+      // Candidate positions for the current scales; projected for the modified flows.
+      ref = s.kind == Flow_kind::modified_laplacian ? reference.data() : P;
+#pragma omp parallel for schedule(static) if (parallel)
+      for (std::ptrdiff_t i = 0; i < sn; ++i) place(std::size_t(i));
+      guard_flips();
+      finish_iteration(it, clamped_cot);
+    }
+    m.points = cur;
+  }
+
+ private:
+  // The cotangent weight of every edge at P (face_area2, face_cot, edge_w); the number of angles
+  // clamped.
+  std::size_t cotangent_weights() {
+    std::size_t clamped_cot = 0;
+#pragma omp parallel for schedule(static) if (parallel) reduction(+ : clamped_cot)
+    for (std::ptrdiff_t f = 0; f < snf; ++f) {
+      const auto& tri = m.triangles[std::size_t(f)];
+      const V3 v[3] = {load(P, tri[0]), load(P, tri[1]), load(P, tri[2])};
+      const V3 nrm = cross(v[1] - v[0], v[2] - v[0]);
+      const double area2 = std::sqrt(dot(nrm, nrm));  // |u × w| at every corner
+      face_area2[std::size_t(f)] = area2;
+      for (int k = 0; k < 3; ++k) {
+        const V3 u = v[(k + 1) % 3] - v[k], w = v[(k + 2) % 3] - v[k];
+        const double lower = sin_one_degree * std::sqrt(dot(u, u) * dot(w, w));
+        double cot = 0;
+        if (!(lower > 0)) {
+          ++clamped_cot;  // a zero-length edge: the angle is undefined, weight 0
+        } else if (area2 < lower) {
+          ++clamped_cot;
+          cot = dot(u, w) / lower;
+        } else {
+          cot = dot(u, w) / area2;
+        }
+        face_cot[std::size_t(f)][std::size_t(k)] = cot;
+      }
+    }
+    std::fill(edge_w.begin(), edge_w.end(), 0.0);
+    for (std::size_t f = 0; f < nf; ++f)
+      for (int k = 0; k < 3; ++k) edge_w[t.face_edge[f][std::size_t(k)]] += face_cot[f][std::size_t(k)];
+    return clamped_cot;
+  }
+
+  // The step of every free vertex, before projection and flip guard (disp); the scales reset.
+  void compute_steps() {
 #pragma omp parallel for schedule(static) if (parallel)
     for (std::ptrdiff_t si = 0; si < sn; ++si) {
       const std::size_t i = std::size_t(si);
@@ -413,93 +421,36 @@ void run_flow_unit(Smoothing_arrays& m, const Flow_settings& s, Smoothing_report
       vertex_round[i] = 0;
     }
     std::fill(face_round.begin(), face_round.end(), 0u);
+  }
 
-    // Candidate positions for the current scales; projected for the modified flows.
-    const double* ref = s.kind == Flow_kind::modified_laplacian ? reference.data() : P;
-    auto place = [&](std::size_t i) {
-      const V3 p = load(P, i);
-      if (m.fixed[i]) {
-        store(next.data(), i, p);
-        return;
-      }
-      const V3 target = p + scale[i] * load(disp.data(), i);
-      if (modified && home[i] != no_face && scale[i] > 0) {
-        std::uint32_t f = home[i];
-        bool c = false;
-        store(next.data(), i, walk(ref, m, t, f, target, c));
-        landing[i] = f;
-        walk_clamped[i] = c;
-      } else {
-        store(next.data(), i, target);
-        landing[i] = home[i];
-        walk_clamped[i] = 0;
-      }
-    };
-#pragma omp parallel for schedule(static) if (parallel)
-    for (std::ptrdiff_t i = 0; i < sn; ++i) place(std::size_t(i));
+  // Vertex i's candidate position for its current scale (next), projected for the modified flows.
+  void place(std::size_t i) {
+    const V3 p = load(P, i);
+    if (m.fixed[i]) {
+      store(next.data(), i, p);
+      return;
+    }
+    const V3 target = p + scale[i] * load(disp.data(), i);
+    if (modified && home[i] != no_face && scale[i] > 0) {
+      std::uint32_t f = home[i];
+      bool c = false;
+      store(next.data(), i, walk(ref, m, t, f, target, c));
+      landing[i] = f;
+      walk_clamped[i] = c;
+    } else {
+      store(next.data(), i, target);
+      landing[i] = home[i];
+      walk_clamped[i] = 0;
+    }
+  }
 
-    // Flip guard: halve the steps of the free corners of faces that would flip or turn into
-    // needles. After the first pass over all faces only the faces around the vertices whose
-    // step changed are judged again; every round halves or cancels at least one step, and a
-    // vertex's step is halved at most max_halvings times before it is cancelled, so the loop
-    // ends. A face that stays flagged with all its corners still (impossible but for rounding)
-    // changes nothing and is dropped.
-    auto judge = [&](std::size_t f) {
-      const auto& tri = m.triangles[f];
-      const V3 a = load(P, tri[0]), b = load(P, tri[1]), c = load(P, tri[2]);
-      const V3 na = load(next.data(), tri[0]), nb = load(next.data(), tri[1]), nc = load(next.data(), tri[2]);
-      const V3 n0 = cross(b - a, c - a), n1 = cross(nb - na, nc - na);
-      const double l0 = dot(n0, n0), l1 = dot(n1, n1);
-      if (!(l0 > 0)) return false;  // a face of zero area has no normal to flip: not judged
-      // A face must not turn into a needle either (that is how a flip starts, and a needle's
-      // cotangents are clamped): its shape figure |n| / (longest edge)², about the sine of its
-      // smallest angle, may not fall below needle_shape, or below what it was if it already was.
-      // Compared squared and without division, so that an unmoved face always passes.
-      const double e0 = std::max({dot(b - a, b - a), dot(c - b, c - b), dot(a - c, a - c)});
-      const double e1 = std::max({dot(nb - na, nb - na), dot(nc - nb, nc - nb), dot(na - nc, na - nc)});
-      if (!(l1 * (e0 * e0) >= std::min(l0, needle_shape * needle_shape * (e0 * e0)) * (e1 * e1))) return true;
-      // The filter: a normal turning by less than about 89.9° (cos > 1e-3) is kept; otherwise the
-      // exact orientation of the moved triangle in the plane of the old one decides. Judged
-      // against the previous iteration and against the positions at the call: small turns add
-      // up over iterations, and the promise is that no face is reversed with respect to the input.
-      const Triangle_points after{Point_3(na.x, na.y, na.z), Point_3(nb.x, nb.y, nb.z), Point_3(nc.x, nc.y, nc.z)};
-      const double d0 = dot(n0, n1);
-      if (!(d0 > 0 && d0 * d0 > 1e-6 * l0 * l1)) {
-        const Triangle_points before{Point_3(a.x, a.y, a.z), Point_3(b.x, b.y, b.z), Point_3(c.x, c.y, c.z)};
-        if (orientation_flip_test(before, after) != Flip_state::kept) return true;
-      }
-      const V3 ni = load(initial_normal.data(), f);
-      const double di = dot(ni, n1);
-      const double li = dot(ni, ni);
-      if (li > 0 && !(di > 0 && di * di > 1e-6 * li * l1)) {
-        const V3 ia = load(oriented.data(), tri[0]), ib = load(oriented.data(), tri[1]), ic = load(oriented.data(), tri[2]);
-        const Triangle_points initial{Point_3(ia.x, ia.y, ia.z), Point_3(ib.x, ib.y, ib.z), Point_3(ic.x, ic.y, ic.z)};
-        if (orientation_flip_test(initial, after) != Flip_state::kept) return true;
-      }
-      // Nor may it fold over a neighbour: two faces sharing an edge that turn more than 90 degrees
-      // apart, when they did not at the call (each face alone can turn less than 90 degrees and
-      // the pair still fold; seen on CGAL's elephant). Filtered, then exact in the face's plane,
-      // the test fit_template_to_curves verifies with. Across curve edges too: the faces on the two
-      // sides of a curve move independently.
-      for (int k = 0; k < 3; ++k) {
-        const std::uint32_t g = t.face_nbr[f][std::size_t(k)];
-        if (g == no_face) continue;
-        const auto& gt = m.triangles[g];
-        const V3 ga = load(next.data(), gt[0]), gb = load(next.data(), gt[1]), gc = load(next.data(), gt[2]);
-        const V3 ng = cross(gb - ga, gc - ga);
-        const double dg = dot(n1, ng);
-        if (dg > 0 && dg * dg > 1e-6 * l1 * dot(ng, ng)) continue;
-        const Triangle_points other{Point_3(ga.x, ga.y, ga.z), Point_3(gb.x, gb.y, gb.z), Point_3(gc.x, gc.y, gc.z)};
-        if (orientation_in_plane(after, other[0], other[1], other[2]) == CGAL::POSITIVE) continue;
-        const V3 ia = load(oriented.data(), tri[0]), ib = load(oriented.data(), tri[1]), ic = load(oriented.data(), tri[2]);
-        const V3 ja = load(oriented.data(), gt[0]), jb = load(oriented.data(), gt[1]), jc = load(oriented.data(), gt[2]);
-        const Triangle_points initial{Point_3(ia.x, ia.y, ia.z), Point_3(ib.x, ib.y, ib.z), Point_3(ic.x, ic.y, ic.z)};
-        if (orientation_in_plane(initial, Point_3(ja.x, ja.y, ja.z), Point_3(jb.x, jb.y, jb.z),
-                                 Point_3(jc.x, jc.y, jc.z)) == CGAL::POSITIVE)
-          return true;  // a new fold
-      }
-      return false;
-    };
+  // Flip guard: halve the steps of the free corners of faces that would flip or turn into
+  // needles. After the first pass over all faces only the faces around the vertices whose
+  // step changed are judged again; every round halves or cancels at least one step, and a
+  // vertex's step is halved at most max_halvings times before it is cancelled, so the loop
+  // ends. A face that stays flagged with all its corners still (impossible but for rounding)
+  // changes nothing and is dropped.
+  void guard_flips() {
 #pragma omp parallel for schedule(static) if (parallel)
     for (std::ptrdiff_t f = 0; f < snf; ++f) flipped[std::size_t(f)] = judge(std::size_t(f));
     std::vector<std::uint32_t> flagged, changed, recheck;
@@ -537,7 +488,68 @@ void run_flow_unit(Smoothing_arrays& m, const Flow_settings& s, Smoothing_report
       for (std::uint32_t f : recheck)
         if (flipped[f]) flagged.push_back(f);
     }
+  }
 
+  // Whether face f would flip or turn into a needle or fold over a neighbour at `next`.
+  bool judge(std::size_t f) const {
+    const auto& tri = m.triangles[f];
+    const V3 a = load(P, tri[0]), b = load(P, tri[1]), c = load(P, tri[2]);
+    const V3 na = load(next.data(), tri[0]), nb = load(next.data(), tri[1]), nc = load(next.data(), tri[2]);
+    const V3 n0 = cross(b - a, c - a), n1 = cross(nb - na, nc - na);
+    const double l0 = dot(n0, n0), l1 = dot(n1, n1);
+    if (!(l0 > 0)) return false;  // a face of zero area has no normal to flip: not judged
+    // A face must not turn into a needle either (that is how a flip starts, and a needle's
+    // cotangents are clamped): its shape figure |n| / (longest edge)², about the sine of its
+    // smallest angle, may not fall below needle_shape, or below what it was if it already was.
+    // Compared squared and without division, so that an unmoved face always passes.
+    const double e0 = std::max({dot(b - a, b - a), dot(c - b, c - b), dot(a - c, a - c)});
+    const double e1 = std::max({dot(nb - na, nb - na), dot(nc - nb, nc - nb), dot(na - nc, na - nc)});
+    if (!(l1 * (e0 * e0) >= std::min(l0, needle_shape * needle_shape * (e0 * e0)) * (e1 * e1))) return true;
+    // The filter: a normal turning by less than about 89.9° (cos > 1e-3) is kept; otherwise the
+    // exact orientation of the moved triangle in the plane of the old one decides. Judged
+    // against the previous iteration and against the positions at the call: small turns add
+    // up over iterations, and the promise is that no face is reversed with respect to the input.
+    const Triangle_points after{Point_3(na.x, na.y, na.z), Point_3(nb.x, nb.y, nb.z), Point_3(nc.x, nc.y, nc.z)};
+    const double d0 = dot(n0, n1);
+    if (!(d0 > 0 && d0 * d0 > 1e-6 * l0 * l1)) {
+      const Triangle_points before{Point_3(a.x, a.y, a.z), Point_3(b.x, b.y, b.z), Point_3(c.x, c.y, c.z)};
+      if (orientation_flip_test(before, after) != Flip_state::kept) return true;
+    }
+    const V3 ni = load(initial_normal.data(), f);
+    const double di = dot(ni, n1);
+    const double li = dot(ni, ni);
+    if (li > 0 && !(di > 0 && di * di > 1e-6 * li * l1)) {
+      const V3 ia = load(oriented.data(), tri[0]), ib = load(oriented.data(), tri[1]), ic = load(oriented.data(), tri[2]);
+      const Triangle_points initial{Point_3(ia.x, ia.y, ia.z), Point_3(ib.x, ib.y, ib.z), Point_3(ic.x, ic.y, ic.z)};
+      if (orientation_flip_test(initial, after) != Flip_state::kept) return true;
+    }
+    // Nor may it fold over a neighbour: two faces sharing an edge that turn more than 90 degrees
+    // apart, when they did not at the call (each face alone can turn less than 90 degrees and
+    // the pair still fold; seen on CGAL's elephant). Filtered, then exact in the face's plane,
+    // the test fit_template_to_curves verifies with. Across curve edges too: the faces on the two
+    // sides of a curve move independently.
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t g = t.face_nbr[f][std::size_t(k)];
+      if (g == no_face) continue;
+      const auto& gt = m.triangles[g];
+      const V3 ga = load(next.data(), gt[0]), gb = load(next.data(), gt[1]), gc = load(next.data(), gt[2]);
+      const V3 ng = cross(gb - ga, gc - ga);
+      const double dg = dot(n1, ng);
+      if (dg > 0 && dg * dg > 1e-6 * l1 * dot(ng, ng)) continue;
+      const Triangle_points other{Point_3(ga.x, ga.y, ga.z), Point_3(gb.x, gb.y, gb.z), Point_3(gc.x, gc.y, gc.z)};
+      if (orientation_in_plane(after, other[0], other[1], other[2]) == CGAL::POSITIVE) continue;
+      const V3 ia = load(oriented.data(), tri[0]), ib = load(oriented.data(), tri[1]), ic = load(oriented.data(), tri[2]);
+      const V3 ja = load(oriented.data(), gt[0]), jb = load(oriented.data(), gt[1]), jc = load(oriented.data(), gt[2]);
+      const Triangle_points initial{Point_3(ia.x, ia.y, ia.z), Point_3(ib.x, ib.y, ib.z), Point_3(ic.x, ic.y, ic.z)};
+      if (orientation_in_plane(initial, Point_3(ja.x, ja.y, ja.z), Point_3(jb.x, jb.y, jb.z),
+                               Point_3(jc.x, jc.y, jc.z)) == CGAL::POSITIVE)
+        return true;  // a new fold
+    }
+    return false;
+  }
+
+  // The iteration's figures, and `next` becomes the current positions.
+  void finish_iteration(std::size_t it, std::size_t clamped_cot) {
     double step_max = 0;
     std::size_t clamped_walks = 0;
     bool all_finite = true;
@@ -560,7 +572,43 @@ void run_flow_unit(Smoothing_arrays& m, const Flow_settings& s, Smoothing_report
     report.last_step_max_displacement = std::sqrt(step_max);
     ++report.iterations;
   }
-  m.points = cur;
+
+  Smoothing_arrays& m;
+  const Flow_settings& s;
+  Smoothing_report& report;
+  const Topology t;
+  const std::size_t n, nf;
+  const std::ptrdiff_t sn, snf;
+  const bool modified, curvature;
+  // The original positions p^0 (eq. 4.6) and the modified Laplacian's reference surface.
+  const std::vector<double> p0;
+  const std::vector<double>& reference;
+  const std::vector<double>& oriented;
+  // The mean-curvature time step: λ h̄², so that λ is dimensionless (smooth.h).
+  const double tau;
+  const double min_distance;
+  // Threads only pay off on large meshes: a step costs tens of nanoseconds per vertex, and on a
+  // busy machine every barrier of a small mesh's step can cost a scheduler time slice.
+  const bool parallel;
+  std::vector<double> initial_normal;  // the normals of the faces at the call, for the flip guard
+  std::vector<std::uint32_t> home;     // each vertex's face of the reference surface
+  std::vector<double> cur, next, disp, scale, face_area2, edge_w;
+  std::vector<std::array<double, 3>> face_cot;
+  std::vector<std::uint32_t> landing;
+  std::vector<unsigned char> walk_clamped, flipped;
+  // Round stamps of the flip guard (which vertices and faces a round has already visited);
+  // rounds are numbered from 1 in every iteration, so the stamps are reset per iteration.
+  std::vector<std::uint32_t> vertex_round, face_round;
+  std::vector<int> halvings;
+  const double* P = nullptr;    // the current positions
+  const double* ref = nullptr;  // what the modified flows project onto
+};
+
+// run_flow on points of order one (see run_flow below).
+void run_flow_unit(Smoothing_arrays& m, const Flow_settings& s, Smoothing_report& report) {
+  Fp_trap_scope traps;
+  check_smoothing_input(m);
+  Flow_run(m, s, report).run();
 }
 
 }  // namespace
