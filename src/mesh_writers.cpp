@@ -169,6 +169,20 @@ std::uint8_t colour_byte(double c) {
   return static_cast<std::uint8_t>(std::lround(std::clamp(c, 0.0, 1.0) * 255));
 }
 
+
+// One line per vertex: its attribute's components, colours as bytes (colour_byte).
+template <typename Values>
+void write_attribute_rows(Number_writer& w, const Values& values, bool bytes) {
+  for (const auto& a : values) {
+    for (std::size_t k = 0; k < a.size(); ++k) {
+      if (k) w << ' ';
+      if (bytes) w << int(colour_byte(a[k]));
+      else w << a[k];
+    }
+    w << '\n';
+  }
+}
+
 }  // namespace
 
 std::array<std::uint8_t, 3> region_colour(int region) {
@@ -357,14 +371,7 @@ void write_vtp(std::ostream& os, const Mesh_data& mesh) {
     auto array = [&](const char* type, const char* name, const auto& values, bool bytes) {
       w << "<DataArray type=\"" << type << "\" Name=\"" << name << "\" NumberOfComponents=\""
         << values.front().size() << "\" format=\"ascii\">\n";
-      for (const auto& a : values) {
-        for (std::size_t k = 0; k < a.size(); ++k) {
-          if (k) w << ' ';
-          if (bytes) w << int(colour_byte(a[k]));
-          else w << a[k];
-        }
-        w << '\n';
-      }
+      write_attribute_rows(w, values, bytes);
       w << "</DataArray>\n";
     };
     if (uvs) array("Float64", "TCoords", mesh.vertex_uvs, false);
@@ -426,14 +433,7 @@ void write_vtk(std::ostream& os, const Mesh_data& mesh) {
   auto array = [&](const char* name, const auto& values, bool bytes) {
     if (values.empty()) return;
     w << name << ' ' << values.front().size() << ' ' << n << (bytes ? " unsigned_char\n" : " double\n");
-    for (const auto& a : values) {
-      for (std::size_t k = 0; k < a.size(); ++k) {
-        if (k) w << ' ';
-        if (bytes) w << int(colour_byte(a[k]));
-        else w << a[k];
-      }
-      w << '\n';
-    }
+    write_attribute_rows(w, values, bytes);
   };
   array("TCoords", mesh.vertex_uvs, false);
   array("Normals", mesh.vertex_normals, false);
