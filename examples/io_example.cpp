@@ -33,8 +33,9 @@ int main(int argc, char** argv) {
               << pairs_path << ": " << pairs.size() << " pairs\n";
 
     auto patch = tm.add_property_map<Mesh::Face_index, int>("f:patch", 0).first;
-    meshfit::write_triangle_mesh(output_path, tm, CGAL::parameters::face_patch_map(patch),
-                                 {meshfit::Ply_encoding::ascii, {template_path}});
+    meshfit::Write_options options;
+    options.protected_paths = {template_path};  // never overwrite the input
+    meshfit::write_triangle_mesh(output_path, tm, CGAL::parameters::face_patch_map(patch), options);
     std::cout << "wrote " << output_path << "\n";
   } catch (const meshfit::Invalid_input& e) {
     std::cerr << "invalid input: " << e.what() << "\n";

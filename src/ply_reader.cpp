@@ -193,10 +193,10 @@ Ply_header parse_header(Line_reader& in) {
     if (e.name == "face" && std::find(e.roles.begin(), e.roles.end(), Role::patch_id) != e.roles.end()) {
       std::array<std::size_t, 3> at{};
       std::size_t found = 0;
-      const char* names[3] = {"red", "green", "blue"};
+      const char* channels[3] = {"red", "green", "blue"};
       for (std::size_t c = 0; c < 3; ++c)
         for (std::size_t k = 0; k < e.properties.size(); ++k)
-          if (!e.properties[k].is_list && e.roles[k] == Role::none && e.properties[k].name == names[c] &&
+          if (!e.properties[k].is_list && e.roles[k] == Role::none && e.properties[k].name == channels[c] &&
               is_integral(e.properties[k].type)) {
             at[c] = k;
             ++found;
