@@ -862,9 +862,7 @@ std::string scaled_text(const std::string& text, double s) {
 TEST_CASE("cli ecosystem: a .ply output colours each face by its region beside patch_id, and reads back without a warning",
           "[cli][ecosystem][ply]") {
   Temp_dir dir;
-  const std::string inputs = " --template " + q(data + "/template.off") + " --curves " +
-                             q(data + "/curves.polylines.txt") + " --correspondences " + q(data + "/pairs.txt");
-  REQUIRE(run(dir, "fit --quiet" + inputs + " --output fit-ascii.ply").status == 0);
+  REQUIRE(run(dir, "fit --quiet" + example_inputs + " --output fit-ascii.ply").status == 0);
   // The same mesh in binary, by the library's writer.
   meshfit::Write_options binary;
   binary.ply_encoding = meshfit::Ply_encoding::binary_little_endian;
@@ -920,9 +918,7 @@ TEST_CASE("cli ecosystem: a .ply output colours each face by its region beside p
 TEST_CASE("cli ecosystem: an .obj output names a material library beside it, one material per region, in the region's colour",
           "[cli][ecosystem][obj]") {
   Temp_dir dir;
-  const std::string inputs = " --template " + q(data + "/template.off") + " --curves " +
-                             q(data + "/curves.polylines.txt") + " --correspondences " + q(data + "/pairs.txt");
-  REQUIRE(run(dir, "fit --quiet" + inputs + " --output fit.obj --split-regions parts").status == 0);
+  REQUIRE(run(dir, "fit --quiet" + example_inputs + " --output fit.obj --split-regions parts").status == 0);
   // Every group takes the material of its name, from the library the first lines name.
   std::istringstream obj(read_text(dir.file("fit.obj")));
   std::vector<std::string> lines;
@@ -967,7 +963,7 @@ TEST_CASE("cli ecosystem: an .obj output names a material library beside it, one
   CHECK(over.err.find("o.obj.mtl") != std::string::npos);
   CHECK(read_text(dir.file("o.obj.mtl")) == pairs);
   CHECK_FALSE(std::filesystem::exists(dir.file("o.obj")));
-  const Run_result clash = run(dir, "fit --quiet" + inputs + " --output x.obj --report x.obj.mtl");
+  const Run_result clash = run(dir, "fit --quiet" + example_inputs + " --output x.obj --report x.obj.mtl");
   CHECK(clash.status == 1);
   CHECK(clash.err.find("the report is the material library written beside the output") != std::string::npos);
 }
