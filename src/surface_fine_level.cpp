@@ -4,6 +4,7 @@
 // the faces that turn over untangled. Surface_fine_level holds the state its steps share; run()
 // makes them in order.
 #include <meshfit/internal/deform_impl.h>
+#include <meshfit/partition.h>
 
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
 #include <CGAL/AABB_traits.h>

@@ -21,7 +21,6 @@
 #include <meshfit/internal/unit_scale.h>
 #include <meshfit/memory_limit.h>
 #include <meshfit/parameters.h>
-#include <meshfit/partition.h>
 #include <meshfit/surface_walk.h>
 #include <meshfit/rbf.h>
 #include <meshfit/untangle.h>
@@ -32,18 +31,15 @@
 #include <CGAL/Named_function_parameters.h>
 #include <CGAL/Polygon_mesh_processing/compute_normal.h>
 #include <CGAL/Polygon_mesh_processing/connected_components.h>
-#include <CGAL/box_intersection_d.h>
 #include <CGAL/boost/graph/Euler_operations.h>
 #include <CGAL/boost/graph/helpers.h>
 #include <CGAL/boost/graph/named_params_helper.h>
 #include <algorithm>
 #include <chrono>
 #include <deque>
-#include <map>
 #include <memory>
 #include <optional>
 #include <queue>
-#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
