@@ -108,7 +108,8 @@ Curve_network::Curve_network(const std::vector<Polyline>& polylines, double rela
                           polyline_name(k) + " has " + std::to_string(polylines[k].size()) +
                               " point(s); a polyline needs at least 2");
     for (const Point_3& p : polylines[k]) {
-      check_coordinate_range(p, location_of(where, k), polyline_name(k) + ", point " + std::to_string(&p - polylines[k].data() + 1));
+      if (!in_coordinate_range(p))
+        check_coordinate_range(p, location_of(where, k), polyline_name(k) + ", point " + std::to_string(&p - polylines[k].data() + 1));
       m_bbox += p.bbox();
       any = true;
     }
@@ -208,7 +209,6 @@ Curve_network::Curve_network(const std::vector<Polyline>& polylines, double rela
   for (std::size_t i = 1; i < keyed.size(); ++i)
     if (keyed[i][0] == keyed[i - 1][0] && keyed[i][1] == keyed[i - 1][1]) repeated[keyed[i][2]] = true;
   std::vector<std::array<std::size_t, 3>>().swap(keyed);
-  m_incident.resize(m_points.size());
   std::size_t position = 0;
   for (const auto& ids : m_polylines)
     for (std::size_t i = 0; i + 1 < ids.size(); ++i) {
@@ -216,11 +216,17 @@ Curve_network::Curve_network(const std::vector<Polyline>& polylines, double rela
         ++m_repeated_segments;
         continue;
       }
-      const std::size_t a = ids[i], b = ids[i + 1];
-      m_incident[a].push_back(m_segments.size());
-      m_incident[b].push_back(m_segments.size());
-      m_segments.push_back({a, b});
+      m_segments.push_back({ids[i], ids[i + 1]});
     }
+  m_segments.shrink_to_fit();
+  // Incidences in compressed rows: count, sum, fill (in segment order, so each row is sorted).
+  m_incident_offsets.assign(m_points.size() + 1, 0);
+  for (const Segment& s : m_segments) ++m_incident_offsets[s[0] + 1], ++m_incident_offsets[s[1] + 1];
+  std::partial_sum(m_incident_offsets.begin(), m_incident_offsets.end(), m_incident_offsets.begin());
+  m_incident.resize(2 * m_segments.size());
+  std::vector<std::size_t> fill(m_incident_offsets.begin(), m_incident_offsets.end() - 1);
+  for (std::size_t k = 0; k < m_segments.size(); ++k)
+    for (std::size_t v : m_segments[k]) m_incident[fill[v]++] = k;
 
   // Components (union-find over segments), numbered by their lowest vertex.
   boost::disjoint_sets_with_storage<> sets(m_points.size());
@@ -249,7 +255,7 @@ Curve_network::Curve_network(const std::vector<Polyline>& polylines, double rela
       v = other(s, v);
       c.vertices.push_back(v);
       if (degree(v) != 2 || v == start) break;
-      const auto& inc = m_incident[v];
+      const Index_range inc = incident_segments(v);
       s = used[inc[0]] ? inc[1] : inc[0];
       if (used[s]) break;
     }
@@ -258,10 +264,10 @@ Curve_network::Curve_network(const std::vector<Polyline>& polylines, double rela
   };
   for (std::size_t v = 0; v < m_points.size(); ++v)
     if (degree(v) != 2)
-      for (std::size_t s : m_incident[v])
+      for (std::size_t s : incident_segments(v))
         if (!used[s]) walk(v, s);
   for (std::size_t v = 0; v < m_points.size(); ++v)
-    for (std::size_t s : m_incident[v])
+    for (std::size_t s : incident_segments(v))
       if (!used[s]) walk(v, s);
 }
 
@@ -324,13 +330,14 @@ std::size_t Curve_network::number_of_independent_cycles() const {
   return m_segments.size() + m_number_of_components - m_points.size();
 }
 
-Curve_network parse_curve_network(const std::string& content, const std::string& name,
-                                  double relative_tolerance) {
+namespace {
+
+// The polylines of a file in CGAL's polyline format, and each one's line.
+void parse_polylines(const std::string& content, const std::string& name,
+                     std::vector<Curve_network::Polyline>& polylines, std::vector<Input_location>& where) {
   // One token per line in tokens(): a polyline of millions of points is read from its line
   // directly, without an array of its tokens (which would take several times the file's size).
   internal::Line_reader in(content, name, '#', 1);
-  std::vector<Curve_network::Polyline> polylines;
-  std::vector<Input_location> where;
   while (in.next()) {
     const std::string_view line = in.line();
     const std::string_view first = in.tokens()[0];
@@ -356,12 +363,28 @@ Curve_network parse_curve_network(const std::string& content, const std::string&
   if (polylines.empty())
     throw Invalid_input(Input_location{name, 0, Input_location::no_offset},
                         "the file has no polyline");
+}
+
+// The network of parse_polylines' result; an error without a place is placed in the file.
+Curve_network network_of_polylines(const std::vector<Curve_network::Polyline>& polylines,
+                                   const std::vector<Input_location>& where, const std::string& name,
+                                   double relative_tolerance) {
   try {
     return Curve_network(polylines, relative_tolerance, where);
   } catch (const Invalid_input& e) {
     if (!e.where().file.empty()) throw;
     throw Invalid_input(Input_location{name, 0, Input_location::no_offset}, e.problem());
   }
+}
+
+}  // namespace
+
+Curve_network parse_curve_network(const std::string& content, const std::string& name,
+                                  double relative_tolerance) {
+  std::vector<Curve_network::Polyline> polylines;
+  std::vector<Input_location> where;
+  parse_polylines(content, name, polylines, where);
+  return network_of_polylines(polylines, where, name, relative_tolerance);
 }
 
 namespace {
@@ -409,7 +432,12 @@ Curve_network read_curve_network(const std::string& path, double relative_tolera
   const std::string ext = lower_extension(path);
   if (ext == "obj" || ext == "ply")
     return curve_network_of_mesh_file(internal::read_file(path), path, ext == "ply", relative_tolerance);
-  return parse_curve_network(internal::read_file(path), path, relative_tolerance);
+  // The file's text is let go before the network is built: of a long polyline's file, both
+  // together took twice the text's size (a 108 MB line of 1.7 M points: 437 MB at the peak).
+  std::vector<Curve_network::Polyline> polylines;
+  std::vector<Input_location> where;
+  parse_polylines(internal::read_file(path), path, polylines, where);
+  return network_of_polylines(polylines, where, path, relative_tolerance);
 }
 
 void write_curve_network(const std::string& path, const Curve_network& network) {

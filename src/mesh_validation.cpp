@@ -85,7 +85,7 @@ Mesh_data validate_polygon_soup(const Polygon_soup& soup, Mesh_read_report* repo
   const Input_location file{soup.file, 0, Input_location::no_offset};
   Bbox_3 box;
   for (std::size_t v = 0; v < n; ++v) {
-    check_coordinate_range(soup.points[v], file, "vertex " + vertex_name(v));
+    if (!in_coordinate_range(soup.points[v])) check_coordinate_range(soup.points[v], file, "vertex " + vertex_name(v));
     box += soup.points[v].bbox();
   }
   if (n > 0)

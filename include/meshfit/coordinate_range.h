@@ -13,6 +13,7 @@
 #include <meshfit/exceptions.h>
 #include <meshfit/kernel.h>
 
+#include <cmath>
 #include <string>
 
 namespace meshfit {
@@ -23,6 +24,13 @@ constexpr double min_extent = 1e-100;     ///< smallest bounding-box diagonal of
 /// \throws Invalid_input at `where`, naming `element` ("vertex 12"), when a coordinate of `p` is
 ///         not finite or larger than max_coordinate in magnitude.
 void check_coordinate_range(const Point_3& p, const Input_location& where, const std::string& element);
+
+/// Whether every coordinate of `p` is finite and at most max_coordinate in magnitude: what
+/// check_coordinate_range checks, for callers that build the element's name only when it fails
+/// (rather than once for each of millions of points).
+inline bool in_coordinate_range(const Point_3& p) {
+  return std::abs(p.x()) <= max_coordinate && std::abs(p.y()) <= max_coordinate && std::abs(p.z()) <= max_coordinate;
+}
 
 /// The diagonal of `box`, computed without squaring its sides themselves (no underflow at 1e-200
 /// nor overflow at 1e200); 0 for an empty or one-point box.

@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <map>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -58,10 +59,24 @@ class Curve_network {
   const Point_3& point(std::size_t v) const { return m_points.at(v); }
   /// Every segment, in order of first appearance.
   const std::vector<Segment>& segments() const { return m_segments; }
-  /// Indices of the segments incident to vertex `v`.
-  const std::vector<std::size_t>& incident_segments(std::size_t v) const { return m_incident.at(v); }
+  /// A view of consecutive segment indices (valid while the network lives).
+  struct Index_range {
+    const std::size_t* first = nullptr;  ///< the first index
+    const std::size_t* last = nullptr;   ///< one past the last
+    const std::size_t* begin() const { return first; }  ///< for range-for
+    const std::size_t* end() const { return last; }     ///< for range-for
+    std::size_t size() const { return static_cast<std::size_t>(last - first); }  ///< how many
+    bool empty() const { return first == last; }                                ///< none
+    std::size_t operator[](std::size_t i) const { return first[i]; }            ///< the i-th (unchecked)
+  };
+  /// Indices of the segments incident to vertex `v`, in increasing order.
+  /// \throws std::out_of_range when there is no vertex `v`.
+  Index_range incident_segments(std::size_t v) const {
+    if (v >= number_of_vertices()) throw std::out_of_range("Curve_network: no vertex " + std::to_string(v));
+    return {m_incident.data() + m_incident_offsets[v], m_incident.data() + m_incident_offsets[v + 1]};
+  }
   /// The number of segments incident to vertex `v`.
-  std::size_t degree(std::size_t v) const { return m_incident.at(v).size(); }
+  std::size_t degree(std::size_t v) const { return incident_segments(v).size(); }
   /// More than two segments meet at `v`.
   bool is_feature_point(std::size_t v) const { return degree(v) > 2; }
   /// Exactly one segment ends at `v`.
@@ -107,7 +122,12 @@ class Curve_network {
   friend Curve_network internal::scaled(const Curve_network& network, double s);
   std::vector<Point_3> m_points;
   std::vector<Segment> m_segments;
-  std::vector<std::vector<std::size_t>> m_incident;
+  // The segments incident to each vertex, in compressed rows (vertex v's are
+  // m_incident[m_incident_offsets[v] .. m_incident_offsets[v + 1]]): one array rather than a
+  // vector per vertex, which took 57 bytes a vertex of the 260 that reading a long polyline
+  // needed.
+  std::vector<std::size_t> m_incident_offsets{0};
+  std::vector<std::size_t> m_incident;
   std::vector<std::vector<std::size_t>> m_polylines;
   std::vector<Curve> m_curves;
   std::vector<std::size_t> m_component;
