@@ -32,7 +32,8 @@ void check_memory_estimate(double bytes, std::size_t limit, const std::string& s
   if (bytes > static_cast<double>(limit))
     throw Algorithm_failure(stage, what + " needs about " + format_bytes(bytes) + ", over the memory limit of " +
                                        format_bytes(static_cast<double>(limit)) +
-                                       " (--max-memory, the named parameter memory_limit)");
+                                       " (--max-memory, the named parameter memory_limit)",
+                            {{"estimated_bytes", bytes}, {"memory_limit_bytes", static_cast<double>(limit)}});
 }
 
 }  // namespace meshfit

@@ -4,6 +4,7 @@
 // the faces that turn over untangled. Surface_fine_level holds the state its steps share; run()
 // makes them in order.
 #include <meshfit/internal/deform_impl.h>
+#include <meshfit/internal/smallest_angle.h>
 #include <meshfit/partition.h>
 
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
@@ -234,7 +235,8 @@ void Surface_fine_level::check_inputs() const {
           "deform", "the curve network is not planar: " + name_polylines(network.polylines_of_segments(kuratowski)) +
                         " (in file order) form a subdivision of K5 or K3,3, which cannot be drawn on this genus-0 "
                         "template without two curves crossing; curves that cross must share a vertex (a point written "
-                        "identically in both polylines), or the template needs a handle");
+                        "identically in both polylines), or the template needs a handle",
+          {{"kuratowski_segments", static_cast<double>(kuratowski.size())}});
   }
 }
 
@@ -435,7 +437,7 @@ void Surface_fine_level::refuse_crossing_segments() const {
        << " of segments cross without a shared vertex; the first: "
        << name_polylines(network.polylines_of_segments({p, q})) << " (in file order) cross near (" << m
        << "): curves that cross must share a vertex there (the same point written in both polylines)";
-    throw Algorithm_failure("deform", os.str());
+    throw Algorithm_failure("deform", os.str(), {{"crossing_segment_pairs", static_cast<double>(crossing.size())}});
   }
 }
 
@@ -608,7 +610,11 @@ void Surface_fine_level::split_edges_between_curves() {
                                           " faces of the embedding have all their corners on curves (" +
                                           std::to_string(nv) + " network vertices on a template of " +
                                           std::to_string(template_vertices) +
-                                          "): use a finer template (subdivide it), or sparser curves");
+                                          "): use a finer template (subdivide it), or sparser curves",
+                            {{"faces_held_by_curves", static_cast<double>(all_held)},
+                             {"faces", static_cast<double>(total)},
+                             {"network_vertices", static_cast<double>(nv)},
+                             {"template_vertices", static_cast<double>(template_vertices)}});
   std::vector<halfedge_descriptor> joining;
   for (auto e : edges(tm)) {
     const auto h = halfedge(e, tm);

@@ -314,6 +314,11 @@ TEST_CASE("memory limit: a dense RBF over the limit is refused before it is allo
     FAIL("no exception");
   } catch (const meshfit::Algorithm_failure& e) {
     CHECK(std::string(e.what()).find("31 kB") != std::string::npos);
+    REQUIRE(e.figures().size() == 2);
+    CHECK(e.figures()[0].name == "estimated_bytes");
+    CHECK(e.figures()[0].value == Approx(2 * 44 * 44 * 8).epsilon(0.2));
+    CHECK(e.figures()[1].name == "memory_limit_bytes");
+    CHECK(e.figures()[1].value == 16 * 1024);
   }
   CHECK_NOTHROW(meshfit::Rbf_interpolant::fit(c, v, meshfit::Rbf_kernel::linear, {}, nullptr, 64 * 1024));
   CHECK(meshfit::default_memory_limit() > 0);
@@ -350,6 +355,49 @@ TEST_CASE("memory limit: the thesis level's fine RBF is refused from the counts,
   for (const std::string& step : steps) CHECK(step.find("coarse") == std::string::npos);
 }
 
+TEST_CASE("bounded work: fit with the thesis level and 'drop' refuses more network vertices than template vertices at once",
+          "[fit][deform]") {
+  // With 'drop' no vertex is added for the curves: each network vertex needs a template vertex of
+  // its own. A 1.7 M-point line on the example template got its exit 3 only after 65 s of
+  // closest-point queries; the counts say it before any work.
+  Inputs in = example();
+  const meshfit::internal::Resampled_network dense = meshfit::internal::resample_long_segments(in.network, 0.002);
+  const std::size_t nv = dense.network.number_of_vertices(), tv = num_vertices(in.tm);
+  REQUIRE(nv > tv);
+  std::vector<meshfit::Correspondence> pairs = in.pairs;
+  for (meshfit::Correspondence& c : pairs) c.network_vertex = dense.vertex_of[c.network_vertex];
+  std::vector<std::string> steps;
+  const meshfit::Progress_callback record = [&](const meshfit::Progress_step& s) {
+    steps.push_back(s.step);
+    return true;
+  };
+  const auto np = meshfit::parameters::fine_level(meshfit::Fine_level::thesis)
+                      .curve_density(meshfit::Curve_density::drop)
+                      .progress(record);
+  try {
+    meshfit::fit_template_to_curves(in.tm, dense.network, pairs, np);
+    FAIL("fit did not refuse");
+  } catch (const meshfit::Algorithm_failure& e) {
+    CHECK_THAT(e.what(), Catch::Contains(std::to_string(nv) + " network vertices but only " + std::to_string(tv) +
+                                         " template vertices: at least " + std::to_string(nv - tv) +
+                                         " would be dropped"));
+    // The figures, for a caller that does not parse the message.
+    REQUIRE(e.figures().size() == 2);
+    CHECK(e.figures()[0].name == "network_vertices");
+    CHECK(e.figures()[0].value == static_cast<double>(nv));
+    CHECK(e.figures()[1].name == "template_vertices");
+    CHECK(e.figures()[1].value == static_cast<double>(tv));
+  }
+  CHECK(steps.empty());
+  // With fewer network vertices than template vertices the fit runs; on the example the thesis
+  // level's matching then leaves 4 network vertices without a mesh vertex, said after the stage.
+  Inputs small = example();
+  steps.clear();
+  CHECK_THROWS_WITH(meshfit::fit_template_to_curves(small.tm, small.network, small.pairs, np),
+                    Catch::Contains("4 network vertices have no mesh vertex of their own"));
+  CHECK_FALSE(steps.empty());
+}
+
 TEST_CASE("memory limit: fit and deform refuse an input file whose reading would exceed it", "[cli][memory]") {
   // A 57 MB polyline peaked at 590 MB with --max-memory 100M. The example's template is 233 kB.
   Temp_dir dir;
@@ -364,9 +412,13 @@ TEST_CASE("memory limit: fit and deform refuse an input file whose reading would
     const nlohmann::json report = nlohmann::json::parse(read_text(dir.file("r.json")));
     CHECK(report["completed"] == false);
     CHECK(report["stage"] == "read");
+    // The numbers behind the refusal: 10 times the file's size, and the limit.
+    CHECK(report["failure_figures"]["estimated_bytes"].get<double>() > 2e6);
+    CHECK(report["failure_figures"]["memory_limit_bytes"] == 1 << 20);
     CHECK_FALSE(std::filesystem::exists(dir.file("o.off")));
   }
   CHECK(run(dir, "deform" + args + " --max-memory 10M").status == 0);
+  CHECK(nlohmann::json::parse(read_text(dir.file("r.json")))["failure_figures"].is_null());
 }
 
 TEST_CASE("unused vertices: smooth --curves matches the network to the surface, not to unused copies",

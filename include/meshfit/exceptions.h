@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <stdexcept>
 #include <string>
+#include <vector>
 #include <utility>
 
 namespace meshfit {
@@ -62,19 +63,32 @@ class Numerical_error : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// Thrown when an algorithm cannot complete on valid input (a stage gives up); names the stage.
+/// A number behind an Algorithm_failure, by name ("network_vertices", "estimated_bytes", …):
+/// what the reason says in words, for a caller (and the command line's report) to read without
+/// parsing the message.
+struct Failure_figure {
+  std::string name;  ///< snake_case, as in the command line's report
+  double value = 0;  ///< the number (counts are exact up to 2^53)
+};
+
+/// Thrown when an algorithm cannot complete on valid input (a stage gives up); names the stage
+/// and carries the figures that decided it.
 class Algorithm_failure : public std::runtime_error {
  public:
   /// what() is `stage + ": " + reason`.
-  Algorithm_failure(std::string stage, const std::string& reason)
-      : std::runtime_error(stage + ": " + reason), m_stage(std::move(stage)), m_reason(reason) {}
+  Algorithm_failure(std::string stage, const std::string& reason, std::vector<Failure_figure> figures = {})
+      : std::runtime_error(stage + ": " + reason), m_stage(std::move(stage)), m_reason(reason),
+        m_figures(std::move(figures)) {}
   /// The stage that gave up: "deform", "partition", "smooth", "fit", ….
   const std::string& stage() const noexcept { return m_stage; }
   /// what() without the stage.
   const std::string& reason() const noexcept { return m_reason; }
+  /// The numbers the reason is made of (empty for a cancel).
+  const std::vector<Failure_figure>& figures() const noexcept { return m_figures; }
 
  private:
   std::string m_stage, m_reason;
+  std::vector<Failure_figure> m_figures;
 };
 
 /// Thrown when the `progress` callback returns `false`: the caller cancelled the stage. An

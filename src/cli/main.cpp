@@ -461,7 +461,7 @@ struct Pending_report {
 /// A report with every top-level key, the same in every command: what the run did and whether it
 /// completed. Commands fill timings_s, counts, quality and details.
 Json report_skeleton(const std::string& command, const std::string& failure, const std::string& stage,
-                     int exit_status) {
+                     int exit_status, const std::vector<meshfit::Failure_figure>& figures = {}) {
   Json j;
   j["schema"] = "meshfit-report";
   j["schema_version"] = report_schema_version;
@@ -470,6 +470,9 @@ Json report_skeleton(const std::string& command, const std::string& failure, con
   j["completed"] = failure.empty();
   j["failure"] = failure.empty() ? Json(nullptr) : Json(failure);
   j["stage"] = failure.empty() ? Json(nullptr) : Json(stage);
+  // The numbers behind an Algorithm_failure, by name (null when there are none).
+  j["failure_figures"] = nullptr;
+  for (const meshfit::Failure_figure& f : figures) j["failure_figures"][f.name] = number(f.value);
   j["exit_status"] = exit_status;
   j["verified"] = nullptr;
   j["inputs"] = pending_report.inputs;
@@ -597,10 +600,11 @@ void write_report(const std::string& report_path, const Json& report) {
 
 /// The report of a command that failed before it could gather its figures (bad input found after
 /// the paths were checked, out of memory, an unexpected error): written by main.
-void write_failure_report(const std::string& failure, const std::string& stage, int exit_status) noexcept {
+void write_failure_report(const std::string& failure, const std::string& stage, int exit_status,
+                          const std::vector<meshfit::Failure_figure>& figures = {}) noexcept {
   if (pending_report.path.empty() || pending_report.written) return;
   try {
-    write_report(pending_report.path, report_skeleton(pending_report.command, failure, stage, exit_status));
+    write_report(pending_report.path, report_skeleton(pending_report.command, failure, stage, exit_status, figures));
   } catch (const std::exception& e) {
     std::cerr << "meshfit: could not write the report: " << e.what() << "\n";
   }
@@ -874,6 +878,7 @@ int run_deform(const Command_line& cl) {
   const bool quiet = cl.quiet;
   meshfit::Deformation_report r;
   std::string failure, stage = "deform";  // a failure, reported with the figures gathered so far
+  std::vector<meshfit::Failure_figure> figures;
   try {
     r = meshfit::deform_template(tm, network, pairs, meshfit::deform_parameters(options));
   } catch (const meshfit::Numerical_error& e) {
@@ -881,6 +886,7 @@ int run_deform(const Command_line& cl) {
   } catch (const meshfit::Algorithm_failure& e) {
     failure = e.stage() == "deform" ? e.reason() : e.what();
     stage = e.stage();
+    figures = e.figures();
   }
   if (failure.empty() && r.orientation_reversed)
     failure = meshfit::orientation_reversal_message(r.coarse_affine_determinant);
@@ -896,7 +902,7 @@ int run_deform(const Command_line& cl) {
   if (!report_path.empty()) {
     std::size_t embedded = 0;
     for (std::size_t v : r.mesh_vertex_of_network_vertex) embedded += v != meshfit::Closest_point_assignment::unassigned;
-    Json js = report_skeleton("deform", failure, stage, failure.empty() ? success : algorithm_failed);
+    Json js = report_skeleton("deform", failure, stage, failure.empty() ? success : algorithm_failed, figures);
     js["timings_s"] = {{"read", number(read_s)}, {"coarse", number(r.coarse_seconds)}, {"fine", number(r.fine_seconds)},
                        {"total", number(progress_display.seconds())}};
     js["counts"] = {{"correspondences", r.user_pairs},
@@ -1232,6 +1238,7 @@ int run_fit(const Command_line& cl) {
   }
   meshfit::Fit_report r;
   std::string failure, stage = "fit";  // a failure, reported with the figures gathered so far
+  std::vector<meshfit::Failure_figure> figures;
   try {
     const auto np =
         meshfit::deform_parameters(d)
@@ -1252,6 +1259,7 @@ int run_fit(const Command_line& cl) {
   } catch (const meshfit::Algorithm_failure& e) {
     failure = e.what();
     stage = e.stage();
+    figures = e.figures();
   }
   meshfit::Mesh_data out =
       meshfit::to_mesh_data(in.tm, CGAL::parameters::edge_is_constrained_map(curve).face_patch_map(region));
@@ -1285,7 +1293,7 @@ int run_fit(const Command_line& cl) {
   const meshfit::Partition_report& pr = r.partition;
   const meshfit::Smoothing_report& sr = r.smoothing;
 
-  Json js = report_skeleton("fit", failure, stage, failure.empty() ? success : algorithm_failed);
+  Json js = report_skeleton("fit", failure, stage, failure.empty() ? success : algorithm_failed, figures);
   js["verified"] = completed && problems.empty();
   js["timings_s"] = {{"read", number(in.read_seconds)}, {"deform", number(r.deform_seconds)},
                      {"partition", number(r.partition_seconds)}, {"smooth", number(r.smooth_seconds)},
@@ -1384,7 +1392,7 @@ int main(int argc, char** argv) {
   } catch (const meshfit::Algorithm_failure& e) {
     progress_display.finish();
     std::cerr << "meshfit: failed: " << e.what() << "\n";
-    write_failure_report(e.what(), e.stage(), algorithm_failed);
+    write_failure_report(e.what(), e.stage(), algorithm_failed, e.figures());
     return algorithm_failed;
   } catch (const std::bad_alloc&) {
     progress_display.finish();

@@ -10,7 +10,6 @@
 #include <meshfit/displacement.h>
 #include <meshfit/exceptions.h>
 #include <meshfit/flip.h>
-#include <meshfit/internal/angle_flips.h>
 #include <meshfit/internal/border_cycles.h>
 #include <meshfit/internal/clear_mesh.h>
 #include <meshfit/internal/format_number.h>
@@ -21,8 +20,6 @@
 #include <meshfit/internal/unit_scale.h>
 #include <meshfit/memory_limit.h>
 #include <meshfit/parameters.h>
-#include <meshfit/surface_walk.h>
-#include <meshfit/rbf.h>
 #include <meshfit/untangle.h>
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
 #include <CGAL/AABB_traits.h>
@@ -30,7 +27,6 @@
 #include <CGAL/Dynamic_property_map.h>
 #include <CGAL/Named_function_parameters.h>
 #include <CGAL/Polygon_mesh_processing/compute_normal.h>
-#include <CGAL/Polygon_mesh_processing/connected_components.h>
 #include <CGAL/boost/graph/Euler_operations.h>
 #include <CGAL/boost/graph/helpers.h>
 #include <CGAL/boost/graph/named_params_helper.h>
@@ -275,7 +271,9 @@ void refuse_far_polylines(const Curve_network& network, const Distance& distance
     throw Algorithm_failure("deform", name_polylines(lines) + " (in file order) lie" + (lines.size() == 1 ? "s" : "") +
                                           " far from the template after the coarse level (every point farther than "
                                           "a tenth of its size): give a correspondence on " + them + ", or remove " +
-                                          them);
+                                          them,
+                            {{"far_polylines", static_cast<double>(lines.size())},
+                             {"first_far_polyline", static_cast<double>(lines.front() + 1)}});
   }
   for (std::size_t k = 0; k < network.polylines().size(); ++k) {
     const auto& pl = network.polylines()[k];
@@ -285,7 +283,10 @@ void refuse_far_polylines(const Curve_network& network, const Distance& distance
       throw Algorithm_failure("deform", name_polylines({k}) + " (in file order), point " + std::to_string(i + 1) +
                                             ", lies " + format_number(d / size) +
                                             " times the template's size away from it after the coarse level: "
-                                            "curves must run on the surface; check that point, or remove it");
+                                            "curves must run on the surface; check that point, or remove it",
+                              {{"polyline", static_cast<double>(k + 1)},
+                               {"point", static_cast<double>(i + 1)},
+                               {"distance_over_template_size", d / size}});
     }
   }
 }
@@ -749,7 +750,9 @@ void refuse_oversampled_curves(const TriangleMesh& tm, const VPM& vpm, const Cur
   os << " (median segment " << median << ", mean edge " << edge
      << "): every network vertex becomes a mesh vertex, and rows of them inside single faces fold; sample the "
         "curves more sparsely (a point or two per template edge is enough), or give a finer template";
-  throw Algorithm_failure("deform", os.str());
+  throw Algorithm_failure("deform", os.str(),
+                          {{"median_segment_length", median}, {"mean_edge_length", edge},
+                           {"template_subdivisions", static_cast<double>(subdivisions)}});
 }
 
 }  // namespace internal

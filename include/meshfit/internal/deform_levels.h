@@ -239,7 +239,10 @@ class Thesis_fine_level {
                                             std::to_string(flipped.size()) + " faces flip, and subdividing them would "
                                             "grow the mesh past " + std::to_string(max_vertices) +
                                             " vertices (8 × (template + network vertices)); the coarse level leaves "
-                                            "the template too far from the curves (more correspondences help)");
+                                            "the template too far from the curves (more correspondences help)",
+                              {{"round", static_cast<double>(round + 1)},
+                               {"flipped_faces", static_cast<double>(flipped.size())},
+                               {"vertex_bound", static_cast<double>(max_vertices)}});
     const std::size_t split_before = s.faces_split;
     report.vertices_inserted_for_flips += pin_at_projections(pulled, unpaired);
     report.faces_subdivided += s.faces_split - split_before;
