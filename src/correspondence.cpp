@@ -3,8 +3,8 @@
 #include <meshfit/internal/format_number.h>
 
 #include "point_set_predicates.h"
-#include "text_parser.h"
-#include "write_file.h"
+#include "io/text_parser.h"
+#include "io/write_file.h"
 
 #include <map>
 #include <ostream>

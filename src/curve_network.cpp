@@ -5,9 +5,9 @@
 #include <meshfit/internal/resample_network.h>
 #include <boost/pending/disjoint_sets.hpp>
 
-#include "polygon_soup.h"
-#include "text_parser.h"
-#include "write_file.h"
+#include "io/polygon_soup.h"
+#include "io/text_parser.h"
+#include "io/write_file.h"
 
 #include <boost/graph/adjacency_list.hpp>
 // Boost's planarity test trips GCC 12's -Wmaybe-uninitialized inside its own headers
@@ -109,7 +109,8 @@ Curve_network::Curve_network(const std::vector<Polyline>& polylines, double rela
                               " point(s); a polyline needs at least 2");
     for (const Point_3& p : polylines[k]) {
       if (!in_coordinate_range(p))
-        check_coordinate_range(p, location_of(where, k), polyline_name(k) + ", point " + std::to_string(&p - polylines[k].data() + 1));
+        check_coordinate_range(p, location_of(where, k),
+                               polyline_name(k) + ", point " + std::to_string(&p - polylines[k].data() + 1));
       m_bbox += p.bbox();
       any = true;
     }

@@ -12,7 +12,7 @@
 #include <meshfit/threads.h>
 #include <meshfit/version.h>
 
-#include "../write_file.h"
+#include "../io/write_file.h"
 #include "view.h"
 
 #include <CGAL/IO/Color.h>

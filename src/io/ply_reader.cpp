@@ -1,6 +1,8 @@
 // Strict PLY parser (ASCII, binary little- and big-endian). The header is validated completely
 // before the body is read; every element instance is bounds-checked against the data left, so a
 // count larger than the data gives an error at the place the data runs out.
+#include <meshfit/internal/format_number.h>
+
 #include "polygon_soup.h"
 #include "text_parser.h"
 
@@ -431,7 +433,11 @@ Polygon_soup parse_ply(std::string_view text, const std::string& name) {
           case Role::y: xyz[1] = v; break;
           case Role::z: xyz[2] = v; break;
           case Role::patch_id:
-            if (v < INT32_MIN || v > INT32_MAX) body.fail_here("patch_id out of range");
+            // -1 is a face in no region (what the writers write as such); other negative ids
+            // would not read back as written.
+            if (v < -1 || v > INT32_MAX)
+              body.fail_here("patch_id " + internal::format_number(v) +
+                             ": a region index is 0 or more, or -1 for a face in no region");
             patch = static_cast<int>(v);
             break;
           case Role::edge_v1: edge[0] = to_index(v, "edge vertex"); break;
