@@ -178,6 +178,16 @@ TEST_CASE("io: binary PLY little- and big-endian, and ASCII PLY with extra prope
       Mesh_format::ply);
   CHECK(a.triangles.size() == 1);
   CHECK(a.face_patch == std::vector<int>{5});
+
+  // -1 is a face in no region; below it an id would not read back as written (the writers give
+  // every negative id as "no region"; found by fuzz_ply).
+  const std::string header =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 1\nproperty list uchar int vertex_index\nproperty int patch_id\nend_header\n"
+      "0 0 0\n1 0 0\n0 1 0\n";
+  CHECK(parse(header + "3 0 1 2 -1\n", Mesh_format::ply).face_patch == std::vector<int>{-1});
+  CHECK_THROWS_WITH(parse(header + "3 0 1 2 -2\n", Mesh_format::ply),
+                    Catch::Contains("patch_id -2: a region index is 0 or more, or -1 for a face in no region"));
 }
 
 TEST_CASE("io: STL binary and ASCII are welded into shared vertices", "[io]") {
