@@ -63,7 +63,8 @@ void fit_work(const Mesh_data& template_data, const Curve_network& network, cons
     throw Algorithm_failure("deform", std::to_string(report.deformation.dropped_network_vertices.size()) +
                                           " network vertices have no mesh vertex of their own, so their segments "
                                           "cannot be made mesh edges",
-                            {{"dropped_network_vertices", static_cast<double>(report.deformation.dropped_network_vertices.size())}});
+                            {{"dropped_network_vertices",
+                              static_cast<double>(report.deformation.dropped_network_vertices.size())}});
 
   t = std::chrono::steady_clock::now();
   auto curve = get(CGAL::dynamic_edge_property_t<bool>(), work);
