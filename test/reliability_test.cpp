@@ -220,6 +220,14 @@ TEST_CASE("far curve points: a segment that leaves the surface is refused at onc
     INFO(what);
     CHECK(what.find("polyline " + std::to_string(lines.size()) + " (in file order), point 2") != std::string::npos);
     CHECK(what.find("times the template's size") != std::string::npos);
+    // The same, as figures: the polyline and point (from 1), and the distance over the size.
+    REQUIRE(e.figures().size() == 3);
+    CHECK(e.figures()[0].name == "polyline");
+    CHECK(e.figures()[0].value == static_cast<double>(lines.size()));
+    CHECK(e.figures()[1].name == "point");
+    CHECK(e.figures()[1].value == 2);
+    CHECK(e.figures()[2].name == "distance_over_template_size");
+    CHECK(e.figures()[2].value > 1);
   }
 }
 
