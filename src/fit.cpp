@@ -19,7 +19,18 @@
 #include <vector>
 
 namespace meshfit {
+
 namespace internal {
+namespace {
+
+std::size_t count_self_intersections(const Work_mesh& m) {
+  using face_descriptor = boost::graph_traits<Work_mesh>::face_descriptor;
+  std::vector<std::pair<face_descriptor, face_descriptor>> pairs;
+  CGAL::Polygon_mesh_processing::self_intersections(m, std::back_inserter(pairs));
+  return pairs.size();
+}
+
+}  // namespace
 
 void fit_work(const Mesh_data& template_data, const Curve_network& network, const std::vector<Correspondence>& pairs,
               const Fit_options& options, double unit, Fit_report& report, Work_mesh& work, Mesh_data& result) {
@@ -133,6 +144,10 @@ void fit_work(const Mesh_data& template_data, const Curve_network& network, cons
       Work_mesh template_mesh;
       build_triangle_mesh(template_data, template_mesh);
       v.template_self_intersects = CGAL::Polygon_mesh_processing::does_self_intersect(template_mesh);
+      if (v.template_self_intersects) {  // then how many, on both
+        v.self_intersecting_pairs = count_self_intersections(work);
+        v.template_self_intersecting_pairs = count_self_intersections(template_mesh);
+      }
     }
   }
   report.verify_seconds = seconds_since(t);

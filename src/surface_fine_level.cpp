@@ -31,8 +31,9 @@ namespace {
 class Surface_fine_level {
  public:
   Surface_fine_level(Work_mesh& tm, const Curve_network& network, const std::vector<Correspondence>& pairs,
-                     const Deform_options& options)
-      : tm(tm),
+                     const Deform_options& options, bool split_for_paths)
+      : split_for_paths(split_for_paths),
+        tm(tm),
         network(network),
         pairs(pairs),
         options(options),
@@ -62,6 +63,7 @@ class Surface_fine_level {
     flip_held_faces();
     flip_folded_diagonals();
     flip_slivers();
+    free_trapped_vertices();
     finish();
     return report;
   }
@@ -122,7 +124,9 @@ class Surface_fine_level {
   // not make one (its insertion refuses to fold the surface, and its fallback moves vertices onto
   // the chord, which may lie off the surface), the shortest edge path from one end to the other
   // that crosses no chain (through no chain vertex nor curve edge) is taken as it is: only its
-  // topology matters here, since step 3 moves its vertices onto the segment anyway.
+  // topology matters here, since step 3 moves its vertices onto the segment anyway. When no such
+  // path exists and split_for_paths is set, the edges joining two chain vertices are split and the
+  // path sought again.
   void collect_chains();
   // Where two chains run side by side, or a chain turns round a triangle, a face has all its
   // corners on curves: nothing of it can move when the curves take their places, and it folds or
@@ -133,6 +137,14 @@ class Surface_fine_level {
   // mesh and untangle what cannot be. (A template whose vertices all lie on the curves, a
   // tetrahedron onto its own edges say, needs no room.)
   void split_edges_between_curves();
+  // The refusal above (also made before collect_chains splits edges to find a path).
+  void refuse_crowded_curves() const;
+  // Splits at its midpoint every interior edge that joins two chain vertices and is no curve edge;
+  // the number split.
+  std::size_t split_edges_joining_chains();
+  // The shortest edge path between the ends of segment k that passes through no chain vertex nor
+  // along a curve edge, kept near the chord; empty when the chains wall the ends off.
+  std::vector<vertex_descriptor> shortest_free_path(std::size_t k) const;
 
   // 3. Targets: network vertices at their points, chain vertices on their segments.
   void set_targets();
@@ -187,9 +199,24 @@ class Surface_fine_level {
   // long as the flip is good (flip_if_good) — smoothing moves no held vertex and cannot. At most
   // one flip per edge and pass, 3 passes.
   void flip_slivers();
+  // A free corner of a face still turned over may have no place left that untangling finds: on
+  // real-pig, a vertex of degree 4 between two chains that meet at a corner, all four neighbours
+  // held, a degree from the chain before the motion. Each free corner of a face turned over is put
+  // where its faces are all good (place_in_ring); failing that, edges out of it are flipped, each
+  // leaving a good face of its old neighbours behind (the face and vertex counts are kept), until
+  // what remains of its ring has such a place, down to a triangle. Kept when the faces of its disc
+  // turn over or fold less (trouble) than before; else undone. Three passes.
+  void free_trapped_vertices();
+  // Puts v where the fewest of its faces are turned over, then where their smallest angle is
+  // largest: its place, the mean of its neighbours (taken when it turns none over), or a point
+  // between the mean and a neighbour or an edge of the ring. The number of its faces turned over.
+  std::size_t place_in_ring(vertex_descriptor v);
+  // The faces of `region` turned over, and those folding with a neighbour.
+  std::size_t trouble(const std::vector<face_descriptor>& region) const;
   // The mesh takes the positions; every network vertex must be at its point.
   void finish();
 
+  const bool split_for_paths;  // see fine_on_surface
   Work_mesh& tm;
   const Curve_network& network;
   const std::vector<Correspondence>& pairs;
@@ -557,36 +584,20 @@ void Surface_fine_level::collect_chains() {
       on_chain[get(s.index, chain_of[k][i])] = true;
     }
   }
+  bool split = false;
   for (std::size_t k : missing) {
-    const auto A = s.vertex[mesh_of[segments[k][0]]], B = s.vertex[mesh_of[segments[k][1]]];
-    const Segment_3 chord(s.to_point(A), s.to_point(B));
-    std::vector<double> dist(s.vertex.size(), std::numeric_limits<double>::infinity());
-    std::vector<std::size_t> from(s.vertex.size(), unassigned);
-    using Item = std::pair<double, std::size_t>;
-    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
-    const std::size_t ia = get(s.index, A), ib = get(s.index, B);
-    dist[ia] = 0;
-    queue.emplace(0.0, ia);
-    while (!queue.empty()) {
-      const auto [du, u] = queue.top();
-      queue.pop();
-      if (du > dist[u]) continue;
-      if (u == ib) break;
-      if (u != ia && on_chain[u]) continue;
-      for (auto h : CGAL::halfedges_around_target(halfedge(s.vertex[u], tm), tm)) {
-        if (get(curve, edge(h, tm))) continue;
-        const std::size_t w = get(s.index, source(h, tm));
-        if (w != ib && on_chain[w]) continue;
-        const Point_3 pw = s.to_point(s.vertex[w]);
-        const double dw = du + std::sqrt(CGAL::squared_distance(s.to_point(s.vertex[u]), pw)) +
-                          2 * std::sqrt(CGAL::squared_distance(chord, pw));
-        if (dw < dist[w]) dist[w] = dw, from[w] = u, queue.emplace(dw, w);
-      }
+    std::vector<vertex_descriptor> path = shortest_free_path(k);
+    // The ends may be walled off by faces with no free corner (two chains, or a chain and a
+    // network vertex, joined by an edge): split such edges, as split_edges_between_curves does
+    // later, and try again (on real-pig, a crossing whose third segment had no way out).
+    if (path.empty() && split_for_paths) {
+      if (!split) refuse_crowded_curves();  // before a split hides the crowding
+      split = true;
+      const std::size_t split = split_edges_joining_chains();
+      report.edges_split_between_curves += split;
+      if (split > 0) path = shortest_free_path(k);
     }
-    if (from[ib] == unassigned) continue;
-    std::vector<vertex_descriptor> path;
-    for (std::size_t u = ib; u != unassigned; u = from[u]) path.push_back(s.vertex[u]);
-    std::reverse(path.begin(), path.end());
+    if (path.empty()) continue;
     for (std::size_t i = 0; i + 1 < path.size(); ++i) {
       put(curve, edge(halfedge(path[i], path[i + 1], tm).first, tm), true);
       on_chain[get(s.index, path[i])] = true;
@@ -597,7 +608,46 @@ void Surface_fine_level::collect_chains() {
   }
 }
 
+std::vector<Surface_fine_level::vertex_descriptor> Surface_fine_level::shortest_free_path(std::size_t k) const {
+  const auto& segments = network.segments();
+  const auto A = s.vertex[mesh_of[segments[k][0]]], B = s.vertex[mesh_of[segments[k][1]]];
+  const Segment_3 chord(s.to_point(A), s.to_point(B));
+  std::vector<double> dist(s.vertex.size(), std::numeric_limits<double>::infinity());
+  std::vector<std::size_t> from(s.vertex.size(), unassigned);
+  using Item = std::pair<double, std::size_t>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+  const std::size_t ia = get(s.index, A), ib = get(s.index, B);
+  dist[ia] = 0;
+  queue.emplace(0.0, ia);
+  while (!queue.empty()) {
+    const auto [du, u] = queue.top();
+    queue.pop();
+    if (du > dist[u]) continue;
+    if (u == ib) break;
+    if (u != ia && on_chain[u]) continue;
+    for (auto h : CGAL::halfedges_around_target(halfedge(s.vertex[u], tm), tm)) {
+      if (get(curve, edge(h, tm))) continue;
+      const std::size_t w = get(s.index, source(h, tm));
+      if (w != ib && on_chain[w]) continue;
+      const Point_3 pw = s.to_point(s.vertex[w]);
+      const double dw = du + std::sqrt(CGAL::squared_distance(s.to_point(s.vertex[u]), pw)) +
+                        2 * std::sqrt(CGAL::squared_distance(chord, pw));
+      if (dw < dist[w]) dist[w] = dw, from[w] = u, queue.emplace(dw, w);
+    }
+  }
+  std::vector<vertex_descriptor> path;
+  if (from[ib] == unassigned) return path;
+  for (std::size_t u = ib; u != unassigned; u = from[u]) path.push_back(s.vertex[u]);
+  std::reverse(path.begin(), path.end());
+  return path;
+}
+
 void Surface_fine_level::split_edges_between_curves() {
+  refuse_crowded_curves();
+  report.edges_split_between_curves += split_edges_joining_chains();
+}
+
+void Surface_fine_level::refuse_crowded_curves() const {
   std::size_t all_held = 0, total = 0;
   for (auto f : faces(tm)) {
     const auto c = s.corners(f);
@@ -615,6 +665,9 @@ void Surface_fine_level::split_edges_between_curves() {
                              {"faces", static_cast<double>(total)},
                              {"network_vertices", static_cast<double>(nv)},
                              {"template_vertices", static_cast<double>(template_vertices)}});
+}
+
+std::size_t Surface_fine_level::split_edges_joining_chains() {
   std::vector<halfedge_descriptor> joining;
   for (auto e : edges(tm)) {
     const auto h = halfedge(e, tm);
@@ -628,7 +681,7 @@ void Surface_fine_level::split_edges_between_curves() {
     on_chain.push_back(false);
     is_network_vertex.push_back(false);
   }
-  report.edges_split_between_curves = joining.size();
+  return joining.size();
 }
 
 void Surface_fine_level::set_targets() {
@@ -914,6 +967,102 @@ void Surface_fine_level::flip_slivers() {
   }
 }
 
+std::size_t Surface_fine_level::place_in_ring(vertex_descriptor v) {
+  const std::size_t i = get(s.index, v);
+  std::vector<Point_3> ring;
+  for (auto h : CGAL::halfedges_around_target(halfedge(v, tm), tm)) ring.push_back(after[get(s.index, source(h, tm))]);
+  Vector_3 sum(0, 0, 0);
+  for (const Point_3& p : ring) sum = sum + (p - CGAL::ORIGIN);
+  const Point_3 mean = CGAL::ORIGIN + sum / static_cast<double>(ring.size());
+  std::vector<Point_3> candidates{after[i], mean};
+  for (std::size_t k = 0; k < ring.size(); ++k) {
+    candidates.push_back(CGAL::centroid(ring[k], ring[(k + 1) % ring.size()], mean));
+    candidates.push_back(CGAL::midpoint(ring[k], mean));
+  }
+  // Fewest bad faces around v, then the largest smallest angle; the place v has wins ties.
+  std::pair<std::size_t, double> best{SIZE_MAX, 0};
+  Point_3 best_point = after[i];
+  for (const Point_3& q : candidates) {
+    after[i] = q;
+    std::pair<std::size_t, double> score{0, -CGAL_PI};
+    for (auto f : CGAL::faces_around_target(halfedge(v, tm), tm)) {
+      const auto c = s.corners(f);
+      if (!good(c[0], c[1], c[2])) ++score.first;
+      score.second = std::max(score.second, -internal::smallest_angle(after[c[0]], after[c[1]], after[c[2]]));
+    }
+    if (score < best) best = score, best_point = q;
+    if (best.first == 0 && q == mean) break;  // the mean will do
+  }
+  after[i] = best_point;
+  return best.first;
+}
+
+std::size_t Surface_fine_level::trouble(const std::vector<face_descriptor>& region) const {
+  std::size_t count = 0;
+  for (auto f : region) {
+    const auto c = s.corners(f);
+    if (!good(c[0], c[1], c[2])) ++count;
+    if (folds_with_neighbours(halfedge(f, tm))) ++count;
+  }
+  return count;
+}
+
+void Surface_fine_level::free_trapped_vertices() {
+  for (int pass = 0; pass < 3; ++pass) {
+    std::vector<vertex_descriptor> candidates;
+    std::vector<bool> seen(n, false);
+    for (auto f : faces(tm)) {
+      const auto c = s.corners(f);
+      if (good(c[0], c[1], c[2])) continue;
+      for (std::size_t k : c)
+        if (!constrained[k] && !seen[k] && !is_border(s.vertex[k], tm)) seen[k] = true, candidates.push_back(s.vertex[k]);
+    }
+    bool changed = false;
+    for (auto v : candidates) {
+      const std::size_t i = get(s.index, v);
+      const Point_3 was = after[i];
+      // The disc of v's faces: what is moved and flipped here stays inside it.
+      std::vector<face_descriptor> disc;
+      for (auto f : CGAL::faces_around_target(halfedge(v, tm), tm)) disc.push_back(f);
+      const std::size_t trouble_before = trouble(disc);
+      std::vector<halfedge_descriptor> flips;
+      bool placed = place_in_ring(v) == 0;
+      for (std::size_t degree = disc.size(); !placed && degree > 3; --degree) {
+        // An edge v-w (faces v w x and w v y) whose flip to x-y leaves a good face x y w.
+        const auto h = [&] {
+          for (auto g : CGAL::halfedges_around_source(v, tm)) {
+            const auto w = target(g, tm), x = target(next(g, tm), tm), y = target(next(opposite(g, tm), tm), tm);
+            if (!get(curve, edge(g, tm)) && !halfedge(x, y, tm).second && good(get(s.index, w), get(s.index, x), get(s.index, y)))
+              return g;
+          }
+          return GT::null_halfedge();
+        }();
+        if (h == GT::null_halfedge()) break;
+        CGAL::Euler::flip_edge(h, tm);
+        flips.push_back(h);
+        placed = place_in_ring(v) == 0;
+      }
+      {
+        // The same disc, now: v's faces and those the flips took from it.
+        std::vector<face_descriptor> now;
+        for (auto f : CGAL::faces_around_target(halfedge(v, tm), tm)) now.push_back(f);
+        for (auto h : flips) now.push_back(face(h, tm)), now.push_back(face(opposite(h, tm), tm));
+        std::sort(now.begin(), now.end());
+        now.erase(std::unique(now.begin(), now.end()), now.end());
+        if (trouble(now) < trouble_before) {
+          changed = true;
+          report.edges_flipped += flips.size();
+          continue;
+        }
+      }
+      for (auto it = flips.rbegin(); it != flips.rend(); ++it) CGAL::Euler::flip_edge(*it, tm);
+      after[i] = was;
+    }
+    if (!changed) break;
+  }
+  flipped = bad_faces();
+}
+
 void Surface_fine_level::finish() {
   flipped = bad_faces();
   s.set_positions(after);
@@ -934,8 +1083,9 @@ void Surface_fine_level::finish() {
 }  // namespace
 
 Deformation_report fine_on_surface(Work_mesh& tm, const Curve_network& network,
-                                   const std::vector<Correspondence>& pairs, const Deform_options& options) {
-  return Surface_fine_level(tm, network, pairs, options).run();
+                                   const std::vector<Correspondence>& pairs, const Deform_options& options,
+                                   bool split_for_paths) {
+  return Surface_fine_level(tm, network, pairs, options, split_for_paths).run();
 }
 
 }  // namespace internal

@@ -48,6 +48,12 @@ struct Fit_verification {
   bool self_intersects = false;           ///< the result intersects itself (when checked)
   bool template_self_intersects = false;  ///< so does the template (checked only when the result does)
   bool self_intersection_checked = false;  ///< the named parameter `check_self_intersections` was true
+  /// Pairs of faces that intersect (PMP::self_intersections), in the result and, when the result
+  /// has any, in the template: a template that intersects itself already (CGAL's pig does) must
+  /// not excuse new intersections, so the counts are compared (the fit splits faces, so a pair of
+  /// the template may become several: the comparison errs towards calling a result bad).
+  std::size_t self_intersecting_pairs = 0;
+  std::size_t template_self_intersecting_pairs = 0;  ///< see self_intersecting_pairs
   std::size_t non_finite_coordinates = 0;  ///< vertices of the result with a coordinate not finite
   /// Regions of the partition, and how many the network bounds on the result's surface when that
   /// is determined by its topology (expected_regions_known): on a connected genus-0 surface,
@@ -72,6 +78,9 @@ struct Fit_verification {
     if (folded_edges > template_folded_edges)
       p.push_back(n(folded_edges) + " folded edges (the template has " + n(template_folded_edges) + ")");
     if (self_intersects && !template_self_intersects) p.push_back("the result intersects itself (the template does not)");
+    if (template_self_intersects && self_intersecting_pairs > template_self_intersecting_pairs)
+      p.push_back(n(self_intersecting_pairs) + " pairs of faces intersect (the template has " +
+                  n(template_self_intersecting_pairs) + ")");
     if (non_finite_coordinates) p.push_back(n(non_finite_coordinates) + " non-finite coordinates");
     if (expected_regions_known && regions != expected_regions)
       p.push_back(n(regions) + " regions where the network bounds " + n(expected_regions));

@@ -1338,6 +1338,8 @@ int run_fit(const Command_line& cl) {
       {"self_intersection_checked", v.self_intersection_checked},
       {"self_intersects", v.self_intersects},
       {"template_self_intersects", v.template_self_intersects},
+      {"self_intersecting_pairs", v.self_intersecting_pairs},
+      {"template_self_intersecting_pairs", v.template_self_intersecting_pairs},
       {"non_finite_coordinates", v.non_finite_coordinates},
       {"regions", v.regions},
       {"expected_regions", v.expected_regions_known ? Json(v.expected_regions) : Json(nullptr)},

@@ -721,9 +721,11 @@ Approach_result approach_curves_icp(TriangleMesh& tm, const VPM& vpm, const Curv
 }
 
 /// deform_fine_on_surface on the network as it is (its long segments not cut); compiled once in
-/// src/surface_fine_level.cpp.
+/// src/surface_fine_level.cpp. With `split_for_paths`, a segment whose ends the other chains wall
+/// off is given a path through the edges that join two chain vertices, split for it (a fallback:
+/// deform_fine_on_surface_impl asks for it only when every start left such a segment).
 Deformation_report fine_on_surface(Work_mesh& tm, const Curve_network& network, const std::vector<Correspondence>& pairs,
-                                   const Deform_options& options);
+                                   const Deform_options& options, bool split_for_paths = false);
 
 /// The largest template that deform_template's subdivision makes.
 constexpr std::size_t max_subdivided_faces = 2000000;

@@ -363,9 +363,9 @@ std::vector<bool> segments_along_border(const TriangleMesh& tm, const VPM& vpm, 
 inline Deformation_report fine_on_cut_network(Work_mesh& tm, const Curve_network& network,
                                               const std::vector<Correspondence>& pairs, const Resampled_network& cut,
                                               const std::vector<Correspondence>& cut_pairs,
-                                              const Deform_options& options) {
-  if (cut.added == 0) return fine_on_surface(tm, network, pairs, options);
-  Deformation_report r = fine_on_surface(tm, cut.network, cut_pairs, options);
+                                              const Deform_options& options, bool split_for_paths) {
+  if (cut.added == 0) return fine_on_surface(tm, network, pairs, options, split_for_paths);
+  Deformation_report r = fine_on_surface(tm, cut.network, cut_pairs, options, split_for_paths);
   r.network_points_added = cut.added;
   std::vector<std::size_t> mesh_of(network.number_of_vertices());
   for (std::size_t v = 0; v < mesh_of.size(); ++v) mesh_of[v] = r.mesh_vertex_of_network_vertex[cut.vertex_of[v]];
@@ -435,43 +435,50 @@ Deformation_report deform_fine_on_surface_impl(TriangleMesh& tm, const Curve_net
   // curves by non-rigid ICP (internal::approach_curves_icp), by the thin-plate field through the
   // nearest template vertices (internal::approach_curves), and as it is. Each approach is made
   // from the coarse surface; when none is clean, the start with the fewest defects is kept (the
-  // earlier on a tie), unless the last one fails with a reason.
+  // earlier on a tie), unless the last one fails with a reason. When a start left a segment whose
+  // ends the other chains wall off, the three are tried once more with such segments given a path
+  // through split edges (fine_on_surface's split_for_paths): a fallback, so that what was clean
+  // without it stays as it was.
   // A polyline far from the coarse surface is refused before any approach pulls the surface to it.
   internal::check_polylines_near(tm, vpm, network);
   const Mesh_snapshot coarse = Mesh_snapshot::of(tm, vpm);
   std::optional<Deformation_report> best;
   std::optional<Mesh_snapshot> best_mesh;
   std::size_t tried = 0;
-  for (int start = 0; start < 3; ++start) {
-    if (tried > 0) coarse.restore(tm, vpm);
-    internal::Approach_result approach;
-    // Curves more than twice as dense as the template: no approach will give them room (step 2
-    // refuses such inputs), and ICP would only move the template around.
-    if (start == 0 && cut.network.number_of_vertices() <= 2 * num_vertices(tm))
-      approach = internal::approach_curves_icp(tm, vpm, cut.network, cut_pairs);
-    if (start == 1) approach = internal::approach_curves(tm, vpm, cut.network, cut_pairs);
-    if (start < 2 && approach.scale == 0) continue;  // the approach made no motion: the same start as the last
-    std::optional<Deformation_report> r;
-    try {
-      r = fine_on_cut_network(tm, network, pairs, cut, cut_pairs, options);
-    } catch (const Cancelled&) {
-      throw;  // the caller's cancel, not a failure of this start
-    } catch (const Algorithm_failure&) {
-      // The last start's reason (from the coarse surface as it is) is said rather than a result
-      // with defects kept.
-      if (start == 2) throw;
-    }
-    ++tried;
-    if (!r) continue;
-    r->approach_constraints = approach.constraints;
-    r->approach_scale = approach.scale;
-    r->approach = start == 0 ? Approach::icp : start == 1 ? Approach::nearest_vertices : Approach::none;
-    r->approach_retried = tried > 1;
-    if (!best || defects(*r) < defects(*best)) {
-      best = r;
-      best_mesh.reset();
-      if (defects(*r) == 0) return *best;
-      best_mesh = Mesh_snapshot::of(tm, vpm);
+  bool walled = false;  // a start left a segment with no path
+  for (int round = 0; round < 2 && (round == 0 || walled); ++round) {
+    for (int start = 0; start < 3; ++start) {
+      if (tried > 0) coarse.restore(tm, vpm);
+      internal::Approach_result approach;
+      // Curves more than twice as dense as the template: no approach will give them room (step 2
+      // refuses such inputs), and ICP would only move the template around.
+      if (start == 0 && cut.network.number_of_vertices() <= 2 * num_vertices(tm))
+        approach = internal::approach_curves_icp(tm, vpm, cut.network, cut_pairs);
+      if (start == 1) approach = internal::approach_curves(tm, vpm, cut.network, cut_pairs);
+      if (start < 2 && approach.scale == 0) continue;  // the approach made no motion: the same start as the last
+      std::optional<Deformation_report> r;
+      try {
+        r = fine_on_cut_network(tm, network, pairs, cut, cut_pairs, options, round == 1);
+      } catch (const Cancelled&) {
+        throw;  // the caller's cancel, not a failure of this start
+      } catch (const Algorithm_failure&) {
+        // The last start's reason (from the coarse surface as it is) is said rather than a result
+        // with defects kept.
+        if (start == 2 && (round == 1 || !walled)) throw;
+      }
+      ++tried;
+      if (!r) continue;
+      walled = walled || !r->segments_not_embedded.empty();
+      r->approach_constraints = approach.constraints;
+      r->approach_scale = approach.scale;
+      r->approach = start == 0 ? Approach::icp : start == 1 ? Approach::nearest_vertices : Approach::none;
+      r->approach_retried = tried > 1;
+      if (!best || defects(*r) < defects(*best)) {
+        best = r;
+        best_mesh.reset();
+        if (defects(*r) == 0) return *best;
+        best_mesh = Mesh_snapshot::of(tm, vpm);
+      }
     }
   }
   if (best_mesh) best_mesh->restore(tm, vpm);
