@@ -584,15 +584,15 @@ void Surface_fine_level::collect_chains() {
       on_chain[get(s.index, chain_of[k][i])] = true;
     }
   }
-  bool split = false;
+  bool refusal_checked = false;
   for (std::size_t k : missing) {
     std::vector<vertex_descriptor> path = shortest_free_path(k);
     // The ends may be walled off by faces with no free corner (two chains, or a chain and a
     // network vertex, joined by an edge): split such edges, as split_edges_between_curves does
     // later, and try again (on real-pig, a crossing whose third segment had no way out).
     if (path.empty() && split_for_paths) {
-      if (!split) refuse_crowded_curves();  // before a split hides the crowding
-      split = true;
+      if (!refusal_checked) refuse_crowded_curves();  // before a split hides the crowding
+      refusal_checked = true;
       const std::size_t split = split_edges_joining_chains();
       report.edges_split_between_curves += split;
       if (split > 0) path = shortest_free_path(k);

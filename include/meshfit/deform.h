@@ -426,7 +426,8 @@ Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
 ///   2. every segment becomes a chain of mesh edges on this surface, where nothing is folded:
 ///      the border arc for a segment along the border, stage 2's insertion (partition_mesh on
 ///      the network as projected) for the others, and the shortest edge path crossing no chain
-///      where that insertion refuses;
+///      where that insertion refuses; an interior edge joining two chain vertices is then split at
+///      its midpoint, so that every face keeps a free corner;
 ///   3. the network vertices are moved onto their points, the inner vertices of each chain onto
 ///      the segment, and every other vertex by the thin-plate displacement field through those
 ///      motions (interpolate_displacements); when that leaves faces turned over or folded, the
@@ -435,14 +436,20 @@ Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
 ///      are repaired: the free vertices around them are relaxed towards their neighbours' mean
 ///      (up to 3 rings, for at most `flip_prevention_rounds` rounds, default 10, the best state
 ///      kept), and an edge of a bad face whose corners are all held is flipped when both new
-///      faces are good. `report.remaining_flips` and `report.remaining_folds` are what is left.
-/// Vertices are added only in step 1 (at most one per network vertex and added point), after the
-/// existing ones. When steps 1-4 after the ICP approach leave defects (segments not embedded,
-/// faces turned over or folded), they run again from the coarse surface after the older approach
-/// (internal::approach_curves: the thin-plate field through the motions of the curves' surface
-/// points given to template vertices three edges apart, unless even an eighth of it turns a face
-/// over or folds an edge), and then without approach; the result with the fewest defects is kept
-/// (`approach`, `approach_retried`; the earlier on a tie).
+///      faces are good; last, each free corner of a face still turned over is put where its faces
+///      are good, if a point between its neighbours' mean and its ring does so, edges out of it
+///      being flipped to lower its degree where none does. `report.remaining_flips` and
+///      `report.remaining_folds` are what is left.
+/// Vertices are added in step 1 (at most one per network vertex and added point) and by the
+/// splits of step 2, after the existing ones. When steps 1-4 after the ICP approach leave
+/// defects (segments not embedded, faces turned over or folded), they run again from the coarse
+/// surface after the older approach (internal::approach_curves: the thin-plate field through the
+/// motions of the curves' surface points given to template vertices three edges apart, unless
+/// even an eighth of it turns a face over or folds an edge), and then without approach; the result with the fewest defects is kept
+/// (`approach`, `approach_retried`; the earlier on a tie). When one of them left a segment with no
+/// path in step 2 (its ends walled off by faces whose corners are all on chains, as at a crossing
+/// on CGAL's pig), the three run once more with the edges joining two chain vertices split before
+/// such a path is sought again.
 /// The work is done on a copy of `tm` (internal/commit_result.h): an exception (a cancel from the
 /// `progress` callback, Algorithm_failure, …) leaves `tm`, its property maps and their values as
 /// they were; on success the result is written into `tm` in place, as fit_template_to_curves does

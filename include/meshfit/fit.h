@@ -48,10 +48,10 @@ struct Fit_verification {
   bool self_intersects = false;           ///< the result intersects itself (when checked)
   bool template_self_intersects = false;  ///< so does the template (checked only when the result does)
   bool self_intersection_checked = false;  ///< the named parameter `check_self_intersections` was true
-  /// Pairs of faces that intersect (PMP::self_intersections), in the result and, when the result
-  /// has any, in the template: a template that intersects itself already (CGAL's pig does) must
-  /// not excuse new intersections, so the counts are compared (the fit splits faces, so a pair of
-  /// the template may become several: the comparison errs towards calling a result bad).
+  /// Pairs of faces that intersect (PMP::self_intersections) in the result and in the template,
+  /// counted when both intersect themselves: a template that does already (CGAL's pig) must not
+  /// excuse new intersections, so the counts are compared (the fit splits faces, so a pair of the
+  /// template may become several: the comparison errs towards calling a result bad).
   std::size_t self_intersecting_pairs = 0;
   std::size_t template_self_intersecting_pairs = 0;  ///< see self_intersecting_pairs
   std::size_t non_finite_coordinates = 0;  ///< vertices of the result with a coordinate not finite
@@ -147,7 +147,8 @@ void fit_work(const Mesh_data& template_data, const Curve_network& network, cons
 ///      (internal::flip_for_angles);
 ///   4. verification (Fit_verification): network vertices are mesh vertices, segments are edge
 ///      chains, no flipped (folded) or degenerate face, no self-intersection the template did not
-///      have (PMP::does_self_intersect), finite coordinates.
+///      have (PMP::does_self_intersect; when both intersect themselves, no more intersecting face
+///      pairs than the template's, PMP::self_intersections), finite coordinates.
 /// The work is done on a copy: `tm` is changed only when every stage and the verification
 /// completed, so an exception (including a cancel from the `progress` callback, Algorithm_failure,
 /// Invalid_input for a non-finite attribute value) leaves `tm`, its property maps and their values
