@@ -19,7 +19,6 @@
 #include <vector>
 
 namespace meshfit {
-
 namespace internal {
 namespace {
 
@@ -143,11 +142,9 @@ void fit_work(const Mesh_data& template_data, const Curve_network& network, cons
     if (v.self_intersects) {  // did the template have them already? (its mesh made again only then)
       Work_mesh template_mesh;
       build_triangle_mesh(template_data, template_mesh);
-      v.template_self_intersects = CGAL::Polygon_mesh_processing::does_self_intersect(template_mesh);
-      if (v.template_self_intersects) {  // then how many, on both
-        v.self_intersecting_pairs = count_self_intersections(work);
-        v.template_self_intersecting_pairs = count_self_intersections(template_mesh);
-      }
+      v.template_self_intersecting_pairs = count_self_intersections(template_mesh);
+      v.template_self_intersects = v.template_self_intersecting_pairs > 0;
+      if (v.template_self_intersects) v.self_intersecting_pairs = count_self_intersections(work);
     }
   }
   report.verify_seconds = seconds_since(t);

@@ -4,10 +4,12 @@
 #include <meshfit/internal/fit_checks.h>
 #include <meshfit/io.h>
 
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Surface_mesh.h>
 
 #include "test_helpers.h"
 
+#include <algorithm>
 #include <map>
 #include <set>
 
@@ -298,6 +300,38 @@ TEST_CASE("deform: CGAL's pig onto plane sections of a bent copy embeds every se
   CHECK(r.segments_not_embedded.empty());
   CHECK(segments_not_edge_chains(tm, network) == 0);
   CHECK(r.remaining_flips == 0);
+}
+
+TEST_CASE("fit: on CGAL's pig, which intersects itself, intersecting face pairs are counted on both", "[fit][real]") {
+  // The pig has intersecting faces of its own; the counts are recounted here on the template and
+  // on the result written back (a failed verification still writes it), and compared as the
+  // verification must.
+  const std::string d = MESHFIT_EXAMPLE_DATA_DIR;
+  Mesh tm;
+  meshfit::read_triangle_mesh(MESHFIT_CGAL_DATA_DIR "/pig.off", tm);
+  auto count_pairs = [](const Mesh& m) {
+    std::vector<std::pair<Mesh::Face_index, Mesh::Face_index>> pairs;
+    CGAL::Polygon_mesh_processing::self_intersections(m, std::back_inserter(pairs));
+    return pairs.size();
+  };
+  const std::size_t template_pairs = count_pairs(tm);
+  REQUIRE(template_pairs > 0);
+  const meshfit::Curve_network network = meshfit::read_curve_network(d + "/pig/curves.polylines.txt");
+  const auto pairs = meshfit::read_correspondences(d + "/pig/pairs.txt", network);
+  const meshfit::Fit_report r = meshfit::fit_template_to_curves(tm, network, pairs);
+  const meshfit::Fit_verification& v = r.verification;
+  REQUIRE(v.self_intersection_checked);
+  const std::size_t result_pairs = count_pairs(tm);
+  CHECK(v.self_intersects == (result_pairs > 0));
+  if (!v.self_intersects) return;
+  CHECK(v.template_self_intersects);
+  CHECK(v.template_self_intersecting_pairs == template_pairs);
+  CHECK(v.self_intersecting_pairs == result_pairs);
+  const auto problems = v.problems();
+  const bool said = std::any_of(problems.begin(), problems.end(), [](const std::string& p) {
+    return p.find("pairs of faces intersect") != std::string::npos;
+  });
+  CHECK(said == (result_pairs > template_pairs));
 }
 #endif
 

@@ -48,10 +48,10 @@ struct Fit_verification {
   bool self_intersects = false;           ///< the result intersects itself (when checked)
   bool template_self_intersects = false;  ///< so does the template (checked only when the result does)
   bool self_intersection_checked = false;  ///< the named parameter `check_self_intersections` was true
-  /// Pairs of faces that intersect (PMP::self_intersections) in the result and in the template,
-  /// counted when both intersect themselves: a template that does already (CGAL's pig) must not
-  /// excuse new intersections, so the counts are compared (the fit splits faces, so a pair of the
-  /// template may become several: the comparison errs towards calling a result bad).
+  /// Pairs of faces that intersect (PMP::self_intersections): in the template when the result
+  /// intersects itself, and in the result when both do. A template that does already (CGAL's pig)
+  /// must not excuse new intersections, so the counts are compared (the fit splits faces, so a
+  /// pair of the template may become several: the comparison errs towards calling a result bad).
   std::size_t self_intersecting_pairs = 0;
   std::size_t template_self_intersecting_pairs = 0;  ///< see self_intersecting_pairs
   std::size_t non_finite_coordinates = 0;  ///< vertices of the result with a coordinate not finite
