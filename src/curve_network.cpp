@@ -96,11 +96,17 @@ std::optional<std::size_t> Curve_network::find_vertex(const Point_3& p) const {
   return best;
 }
 
-Curve_network::Curve_network(const std::vector<Polyline>& polylines, double relative_tolerance,
-                             const std::vector<Input_location>& where) {
+namespace {
+void check_merge_tolerance(double relative_tolerance) {
   if (!(relative_tolerance >= 1e-15 && relative_tolerance <= 1e-2))
     throw Invalid_input("the merge tolerance must be between 1e-15 and 1e-2 of the bounding-box "
                         "diagonal, not " + internal::format_number(relative_tolerance));
+}
+
+// The box of every point, after checking that each polyline has 2 points or more and that every
+// point's coordinates are in range.
+Bbox_3 checked_bbox(const std::vector<Curve_network::Polyline>& polylines, const std::vector<Input_location>& where) {
+  Bbox_3 box;
   bool any = false;
   for (std::size_t k = 0; k < polylines.size(); ++k) {
     if (polylines[k].size() < 2)
@@ -111,88 +117,159 @@ Curve_network::Curve_network(const std::vector<Polyline>& polylines, double rela
       if (!in_coordinate_range(p))
         check_coordinate_range(p, location_of(where, k),
                                polyline_name(k) + ", point " + std::to_string(&p - polylines[k].data() + 1));
-      m_bbox += p.bbox();
+      box += p.bbox();
       any = true;
     }
   }
   if (!any) throw Invalid_input("the curve network is empty");
+  return box;
+}
+
+// For each segment of the polylines in input order, whether an earlier one joins the same two
+// vertices.
+std::vector<bool> repeated_segments(const std::vector<std::vector<std::size_t>>& polylines) {
+  std::vector<std::array<std::size_t, 3>> keyed;  // (lower end, upper end, position in input order)
+  for (const auto& ids : polylines)
+    for (std::size_t i = 0; i + 1 < ids.size(); ++i)
+      keyed.push_back({std::min(ids[i], ids[i + 1]), std::max(ids[i], ids[i + 1]), keyed.size()});
+  std::sort(keyed.begin(), keyed.end());
+  std::vector<bool> repeated(keyed.size(), false);
+  for (std::size_t i = 1; i < keyed.size(); ++i)
+    if (keyed[i][0] == keyed[i - 1][0] && keyed[i][1] == keyed[i - 1][1]) repeated[keyed[i][2]] = true;
+  return repeated;
+}
+}  // namespace
+
+Curve_network::Curve_network(const std::vector<Polyline>& polylines, double relative_tolerance,
+                             const std::vector<Input_location>& where) {
+  check_merge_tolerance(relative_tolerance);
+  m_bbox = checked_bbox(polylines, where);
   const double diagonal = check_extent(m_bbox, Input_location{}, "the curve network");
   m_relative_tolerance = relative_tolerance;
   m_tolerance = relative_tolerance * diagonal;
+  merge_points(polylines);
+  make_segments(where);
+  make_incidences();
+  number_components();
+  trace_curves();
+}
 
-  // Merge points: each point joins the nearest vertex within the tolerance made by an earlier
-  // point (the lowest such vertex when several are nearest), else becomes a vertex: the result of
-  // taking the points one by one in input order. The grid holds every point (by its position in
-  // input order), sorted once; a point that joined a vertex is skipped from then on (`skip`,
-  // path-halving pointers to the next entry still to be looked at), and the later points of a
-  // cell are jumped over, so that many points at one place (a feature point of high degree) cost
-  // no more than one.
-  std::size_t total = 0;
-  for (const auto& line : polylines) total += line.size();
-  std::vector<Cell_entry> all;
-  all.reserve(total);
-  for (std::size_t k = 0, g = 0; k < polylines.size(); ++k)
-    for (const Point_3& p : polylines[k]) all.push_back({cell_of(p), g++});
-  std::sort(all.begin(), all.end(), [](const Cell_entry& a, const Cell_entry& b) {
-    return cell_less(a.cell, b.cell) || (a.cell == b.cell && a.item < b.item);
-  });
-  constexpr std::size_t none = SIZE_MAX;
-  std::vector<std::size_t> vertex_made_by(total, none);  // point -> the vertex it made, if it made one
-  std::vector<std::size_t> entry_of(total), skip(total + 1);  // point -> its entry in `all`
-  for (std::size_t i = 0; i < total; ++i) entry_of[all[i].item] = i;
-  std::iota(skip.begin(), skip.end(), 0);
-  auto next_entry = [&](std::size_t i) {  // the first entry at or after i not skipped
-    while (skip[i] != i) i = skip[i] = skip[skip[i]];
+// Merge points: each point joins the nearest vertex within the tolerance made by an earlier point
+// (the lowest such vertex when several are nearest), else becomes a vertex: the result of taking
+// the points one by one in input order. The grid holds every point (by its position in input
+// order), sorted once; a point that joined a vertex is skipped from then on (`m_skip`, path-halving
+// pointers to the next entry still to be looked at), and the later points of a cell are jumped
+// over, so that many points at one place (a feature point of high degree) cost no more than one.
+class Curve_network::Point_merger {
+ public:
+  static constexpr std::size_t none = SIZE_MAX;
+
+  Point_merger(const Curve_network& network, const std::vector<Polyline>& polylines)
+      : m_network(network), m_t2(network.m_tolerance * network.m_tolerance) {
+    std::size_t total = 0;
+    for (const auto& line : polylines) total += line.size();
+    m_all.reserve(total);
+    for (std::size_t k = 0, g = 0; k < polylines.size(); ++k)
+      for (const Point_3& p : polylines[k]) m_all.push_back({network.cell_of(p), g++});
+    std::sort(m_all.begin(), m_all.end(), [](const Cell_entry& a, const Cell_entry& b) {
+      return cell_less(a.cell, b.cell) || (a.cell == b.cell && a.item < b.item);
+    });
+    m_vertex_made_by.assign(total, none);
+    m_entry_of.resize(total);
+    m_skip.resize(total + 1);
+    for (std::size_t i = 0; i < total; ++i) m_entry_of[m_all[i].item] = i;
+    std::iota(m_skip.begin(), m_skip.end(), 0);
+  }
+
+  // The vertex point g (in input order), at p, joins: the nearest one within the tolerance made
+  // by an earlier point, the lowest when several are; `none` when there is none.
+  std::size_t vertex_near(const Point_3& p, std::size_t g) {
+    std::size_t best = none;
+    double best_d2 = m_t2;
+    Cell lo, hi;
+    near_cells(grid_coordinates(p, m_network.m_bbox, m_network.m_tolerance), lo, hi);
+    for (long long x = lo[0]; x <= hi[0]; ++x)
+      for (long long y = lo[1]; y <= hi[1]; ++y) visit_column(x, y, lo[2], hi[2], p, g, best, best_d2);
+    return best;
+  }
+
+  // Point g made vertex v.
+  void made_vertex(std::size_t g, std::size_t v) { m_vertex_made_by[g] = v; }
+  // Point g joined a vertex: its entry is skipped from now on.
+  void joined(std::size_t g) { m_skip[m_entry_of[g]] = m_entry_of[g] + 1; }
+
+  // The vertices' grid: the entries of the points that made them, in the same order.
+  std::vector<Cell_entry> vertex_cells() {
+    std::vector<std::size_t>().swap(m_entry_of);
+    std::vector<std::size_t>().swap(m_skip);
+    std::vector<Cell_entry> cells;
+    for (const Cell_entry& e : m_all)
+      if (m_vertex_made_by[e.item] != none) cells.push_back({e.cell, m_vertex_made_by[e.item]});
+    cells.shrink_to_fit();
+    return cells;
+  }
+
+ private:
+  // The first entry at or after i not skipped.
+  std::size_t next_entry(std::size_t i) {
+    while (m_skip[i] != i) i = m_skip[i] = m_skip[m_skip[i]];
     return i;
-  };
-  const auto less = [](const Cell_entry& e, const Cell& k) { return cell_less(e.cell, k); };
-  const double t2 = m_tolerance * m_tolerance;
+  }
+
+  // The first entry not skipped at or after the first whose cell is not below `c`, from `from` on.
+  std::size_t first_entry(const Cell& c, std::size_t from) {
+    const auto less = [](const Cell_entry& e, const Cell& k) { return cell_less(e.cell, k); };
+    return next_entry(static_cast<std::size_t>(
+        std::lower_bound(m_all.begin() + static_cast<std::ptrdiff_t>(from), m_all.end(), c, less) - m_all.begin()));
+  }
+
+  // Offers p the vertices made by the earlier points of column (x, y), cells z_lo … z_hi.
+  void visit_column(long long x, long long y, long long z_lo, long long z_hi, const Point_3& p, std::size_t g,
+                    std::size_t& best, double& best_d2) {
+    std::size_t i = first_entry(Cell{x, y, z_lo}, 0);
+    while (i < m_all.size() && m_all[i].cell[0] == x && m_all[i].cell[1] == y && m_all[i].cell[2] <= z_hi) {
+      if (m_all[i].item >= g) {  // this cell's later points: on to the next cell
+        i = first_entry(Cell{x, y, m_all[i].cell[2] + 1}, i);
+        continue;
+      }
+      const std::size_t v = m_vertex_made_by[m_all[i].item];  // an earlier point not skipped made one
+      const double d2 = CGAL::squared_distance(p, m_network.m_points[v]);
+      if (d2 < best_d2 || (d2 == best_d2 && (best == none || v < best))) best_d2 = d2, best = v;
+      i = next_entry(i + 1);
+    }
+  }
+
+  const Curve_network& m_network;
+  const double m_t2;
+  std::vector<Cell_entry> m_all;
+  std::vector<std::size_t> m_vertex_made_by;  // point -> the vertex it made, if it made one
+  std::vector<std::size_t> m_entry_of, m_skip;  // point -> its entry in `m_all`
+};
+
+void Curve_network::merge_points(const std::vector<Polyline>& polylines) {
+  Point_merger merger(*this, polylines);
   for (std::size_t k = 0, g = 0; k < polylines.size(); ++k) {
     std::vector<std::size_t> ids;
     ids.reserve(polylines[k].size());
     for (const Point_3& p : polylines[k]) {
-      std::size_t best = none;
-      double best_d2 = t2;
-      Cell lo, hi;
-      near_cells(grid_coordinates(p, m_bbox, m_tolerance), lo, hi);
-      for (long long x = lo[0]; x <= hi[0]; ++x)
-        for (long long y = lo[1]; y <= hi[1]; ++y) {
-          std::size_t i = next_entry(static_cast<std::size_t>(
-              std::lower_bound(all.begin(), all.end(), Cell{x, y, lo[2]}, less) - all.begin()));
-          while (i < total && all[i].cell[0] == x && all[i].cell[1] == y && all[i].cell[2] <= hi[2]) {
-            if (all[i].item >= g) {  // this cell's later points: on to the next cell
-              const Cell next{x, y, all[i].cell[2] + 1};
-              i = next_entry(static_cast<std::size_t>(
-                  std::lower_bound(all.begin() + static_cast<std::ptrdiff_t>(i), all.end(), next, less) - all.begin()));
-              continue;
-            }
-            const std::size_t v = vertex_made_by[all[i].item];  // an earlier point not skipped made one
-            const double d2 = CGAL::squared_distance(p, m_points[v]);
-            if (d2 < best_d2 || (d2 == best_d2 && (best == none || v < best))) best_d2 = d2, best = v;
-            i = next_entry(i + 1);
-          }
-        }
-      if (best == none) {
-        best = vertex_made_by[g] = m_points.size();
+      std::size_t best = merger.vertex_near(p, g);
+      if (best == Point_merger::none) {
+        best = m_points.size();
+        merger.made_vertex(g, best);
         m_points.push_back(p);
       } else {
-        skip[entry_of[g]] = entry_of[g] + 1;
+        merger.joined(g);
       }
       ids.push_back(best);
       ++g;
     }
     m_polylines.push_back(std::move(ids));
   }
-  std::vector<std::size_t>().swap(entry_of);
-  std::vector<std::size_t>().swap(skip);
-  // The vertices' grid: the entries of the points that made them, in the same order.
-  for (const Cell_entry& e : all)
-    if (vertex_made_by[e.item] != none) m_cells.push_back({e.cell, vertex_made_by[e.item]});
-  m_cells.shrink_to_fit();
-  std::vector<Cell_entry>().swap(all);
-  std::vector<std::size_t>().swap(vertex_made_by);
+  m_cells = merger.vertex_cells();
+}
 
-  // Unique segments, in order of first appearance.
+// Unique segments, in order of first appearance.
+void Curve_network::make_segments(const std::vector<Input_location>& where) {
   for (std::size_t k = 0; k < m_polylines.size(); ++k) {
     const auto& ids = m_polylines[k];
     for (std::size_t i = 0; i + 1 < ids.size(); ++i)
@@ -201,15 +278,7 @@ Curve_network::Curve_network(const std::vector<Polyline>& polylines, double rela
                             polyline_name(k) + ": points " + std::to_string(i + 1) + " and " +
                                 std::to_string(i + 2) + " coincide (a segment of zero length)");
   }
-  std::vector<std::array<std::size_t, 3>> keyed;  // (lower end, upper end, position in input order)
-  for (const auto& ids : m_polylines)
-    for (std::size_t i = 0; i + 1 < ids.size(); ++i)
-      keyed.push_back({std::min(ids[i], ids[i + 1]), std::max(ids[i], ids[i + 1]), keyed.size()});
-  std::sort(keyed.begin(), keyed.end());
-  std::vector<bool> repeated(keyed.size(), false);
-  for (std::size_t i = 1; i < keyed.size(); ++i)
-    if (keyed[i][0] == keyed[i - 1][0] && keyed[i][1] == keyed[i - 1][1]) repeated[keyed[i][2]] = true;
-  std::vector<std::array<std::size_t, 3>>().swap(keyed);
+  const std::vector<bool> repeated = repeated_segments(m_polylines);
   std::size_t position = 0;
   for (const auto& ids : m_polylines)
     for (std::size_t i = 0; i + 1 < ids.size(); ++i) {
@@ -220,7 +289,10 @@ Curve_network::Curve_network(const std::vector<Polyline>& polylines, double rela
       m_segments.push_back({ids[i], ids[i + 1]});
     }
   m_segments.shrink_to_fit();
-  // Incidences in compressed rows: count, sum, fill (in segment order, so each row is sorted).
+}
+
+// Incidences in compressed rows: count, sum, fill (in segment order, so each row is sorted).
+void Curve_network::make_incidences() {
   m_incident_offsets.assign(m_points.size() + 1, 0);
   for (const Segment& s : m_segments) ++m_incident_offsets[s[0] + 1], ++m_incident_offsets[s[1] + 1];
   std::partial_sum(m_incident_offsets.begin(), m_incident_offsets.end(), m_incident_offsets.begin());
@@ -228,8 +300,10 @@ Curve_network::Curve_network(const std::vector<Polyline>& polylines, double rela
   std::vector<std::size_t> fill(m_incident_offsets.begin(), m_incident_offsets.end() - 1);
   for (std::size_t k = 0; k < m_segments.size(); ++k)
     for (std::size_t v : m_segments[k]) m_incident[fill[v]++] = k;
+}
 
-  // Components (union-find over segments), numbered by their lowest vertex.
+// Components (union-find over segments), numbered by their lowest vertex.
+void Curve_network::number_components() {
   boost::disjoint_sets_with_storage<> sets(m_points.size());
   auto root = [&](std::size_t i) { return sets.find_set(i); };
   for (const Segment& s : m_segments) sets.union_set(s[0], s[1]);
@@ -240,9 +314,11 @@ Curve_network::Curve_network(const std::vector<Polyline>& polylines, double rela
     if (number[r] == SIZE_MAX) number[r] = m_number_of_components++;
     m_component[v] = number[r];
   }
+}
 
-  // Curves: walk from every vertex of degree other than 2 along degree-2 vertices; what is left
-  // unvisited are loops made only of degree-2 vertices.
+// Curves: walk from every vertex of degree other than 2 along degree-2 vertices; what is left
+// unvisited are loops made only of degree-2 vertices.
+void Curve_network::trace_curves() {
   std::vector<bool> used(m_segments.size(), false);
   auto other = [&](std::size_t s, std::size_t v) {
     return m_segments[s][0] == v ? m_segments[s][1] : m_segments[s][0];

@@ -1,6 +1,7 @@
 #include <meshfit/displacement.h>
 #include <meshfit/exceptions.h>
 #include <meshfit/internal/format_number.h>
+#include <meshfit/threads.h>
 
 #include "fp_traps.h"
 
@@ -11,27 +12,16 @@
 #include <cmath>
 #include <string>
 
-// OpenBLAS (the BLAS CMake links, BLA_VENDOR OpenBLAS) under CHOLMOD's supernodal factorisation.
-extern "C" int openblas_get_num_threads(void);
-extern "C" void openblas_set_num_threads(int);
-
 namespace meshfit {
 
 namespace {
 
-// CHOLMOD's supernodes are small on a surface mesh: threaded BLAS calls on them cost more than they
-// save (the 164 000-vertex system of a 327 680-face template: 37 s on OpenBLAS's threads beside
-// other work, 5 s on one), and one thread makes the result independent of the machine's cores.
-class One_blas_thread {
- public:
-  One_blas_thread() : m_threads(openblas_get_num_threads()) { openblas_set_num_threads(1); }
-  ~One_blas_thread() { openblas_set_num_threads(m_threads); }
-  One_blas_thread(const One_blas_thread&) = delete;
-  One_blas_thread& operator=(const One_blas_thread&) = delete;
-
- private:
-  int m_threads;
-};
+// OpenBLAS (the BLAS CMake links, BLA_VENDOR OpenBLAS) runs on one thread under CHOLMOD's
+// supernodal factorisation (internal::Scoped_openblas_threads, threads.h). CHOLMOD's supernodes
+// are small on a surface mesh: threaded BLAS calls on them cost more than they save (the
+// 164 000-vertex system of a 327 680-face template: 37 s on OpenBLAS's threads beside other work,
+// 5 s on one), and one thread makes the result independent of the machine's cores.
+constexpr int cholmod_blas_threads = 1;
 
 using Sparse = Eigen::SparseMatrix<double>;
 
@@ -145,7 +135,7 @@ std::vector<Vector_3> interpolate_displacements(const Vertex_adjacency& adj, con
   A.setFromTriplets(qf.begin(), qf.end());
   // CHOLMOD's supernodal factorisation (its own fill-reducing ordering): the system is symmetric
   // positive definite (every part of the mesh has a held vertex).
-  const One_blas_thread one_thread;
+  const internal::Scoped_openblas_threads one_thread(cholmod_blas_threads);
   Eigen::CholmodSupernodalLLT<Sparse, Eigen::Lower> solver;
   solver.compute(A);
   if (solver.info() != Eigen::Success)
@@ -204,7 +194,7 @@ std::vector<Vector_3> fit_displacements(const Vertex_adjacency& adj, const std::
   Sparse data(N, N);
   data.setFromTriplets(t.begin(), t.end());
   A += data;
-  const One_blas_thread one_thread;
+  const internal::Scoped_openblas_threads one_thread(cholmod_blas_threads);
   Eigen::CholmodSupernodalLLT<Sparse, Eigen::Lower> solver;
   solver.compute(A);
   if (solver.info() != Eigen::Success)

@@ -170,32 +170,41 @@ Rbf_interpolant Rbf_interpolant::solve(const std::vector<Point_3>& centres, cons
   return E;
 }
 
-Rbf_interpolant Rbf_interpolant::fit(const std::vector<Point_3>& centres_in,
-                                     const std::vector<Point_3>& values_in, Rbf_kernel kernel,
-                                     const std::vector<Vector_3>& normals_in, Rbf_fit_report* report,
-                                     std::size_t memory_limit, bool orientation_from_layout) {
-  internal::Fp_trap_scope traps;
-  if (centres_in.size() != values_in.size())
-    throw Invalid_input("RBF: " + std::to_string(centres_in.size()) + " centres but " +
-                        std::to_string(values_in.size()) + " values");
-  if (!normals_in.empty() && normals_in.size() != centres_in.size())
-    throw Invalid_input("RBF: " + std::to_string(normals_in.size()) + " normals for " +
-                        std::to_string(centres_in.size()) + " centres");
-  for (std::size_t i = 0; i < centres_in.size(); ++i)
-    if (!finite(centres_in[i]) || !finite(values_in[i]) ||
-        (!normals_in.empty() && !(std::isfinite(normals_in[i].x()) && std::isfinite(normals_in[i].y()) &&
-                                  std::isfinite(normals_in[i].z()))))
-      throw Invalid_input("RBF: pair " + std::to_string(i) + " has a non-finite coordinate");
+namespace {
 
-  // Repeated centres: identical pairs are dropped, conflicting ones are an error.
+void check_pairs(const std::vector<Point_3>& centres, const std::vector<Point_3>& values,
+                 const std::vector<Vector_3>& normals) {
+  if (centres.size() != values.size())
+    throw Invalid_input("RBF: " + std::to_string(centres.size()) + " centres but " +
+                        std::to_string(values.size()) + " values");
+  if (!normals.empty() && normals.size() != centres.size())
+    throw Invalid_input("RBF: " + std::to_string(normals.size()) + " normals for " +
+                        std::to_string(centres.size()) + " centres");
+  for (std::size_t i = 0; i < centres.size(); ++i)
+    if (!finite(centres[i]) || !finite(values[i]) ||
+        (!normals.empty() && !(std::isfinite(normals[i].x()) && std::isfinite(normals[i].y()) &&
+                               std::isfinite(normals[i].z()))))
+      throw Invalid_input("RBF: pair " + std::to_string(i) + " has a non-finite coordinate");
+}
+
+// The pairs fit() solves for: the given ones without repeats, then the auxiliary ones.
+struct Rbf_pairs {
+  std::vector<Point_3> centres, values;
+  std::vector<Vector_3> normals;
+  std::size_t repeated = 0;  // identical pairs dropped
+};
+
+// Repeated centres: identical pairs are dropped (the later ones), conflicting ones are an error.
+Rbf_pairs distinct_pairs(const std::vector<Point_3>& centres_in, const std::vector<Point_3>& values_in,
+                         const std::vector<Vector_3>& normals_in) {
   std::vector<std::size_t> order(centres_in.size());
   std::iota(order.begin(), order.end(), 0);
   auto key = [&](std::size_t i) {
     return std::make_tuple(centres_in[i].x(), centres_in[i].y(), centres_in[i].z());
   };
   std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return key(a) < key(b); });
+  Rbf_pairs pairs;
   std::vector<bool> keep(centres_in.size(), true);
-  std::size_t repeated = 0;
   for (std::size_t k = 1; k < order.size(); ++k) {
     const std::size_t a = order[k - 1], b = order[k];
     if (centres_in[a] != centres_in[b]) continue;
@@ -204,92 +213,121 @@ Rbf_interpolant Rbf_interpolant::fit(const std::vector<Point_3>& centres_in,
                           std::to_string(std::max(a, b)) +
                           " have the same centre but different values");
     keep[std::max(a, b)] = false;
-    ++repeated;
+    ++pairs.repeated;
   }
-  std::vector<Point_3> centres, values;
-  std::vector<Vector_3> normals;
   for (std::size_t i = 0; i < centres_in.size(); ++i)
     if (keep[i]) {
-      centres.push_back(centres_in[i]);
-      values.push_back(values_in[i]);
-      if (!normals_in.empty()) normals.push_back(normals_in[i]);
+      pairs.centres.push_back(centres_in[i]);
+      pairs.values.push_back(values_in[i]);
+      if (!normals_in.empty()) pairs.normals.push_back(normals_in[i]);
     }
+  return pairs;
+}
+
+void check_span(const std::vector<Point_3>& centres) {
   if (centres.size() < 4)
     throw Invalid_input("RBF: " + std::to_string(centres.size()) +
                         " distinct centres; at least 4 are needed");
-
   if (internal::all_collinear(centres)) {
     throw Invalid_input("RBF: all " + std::to_string(centres.size()) +
                         " centres are collinear; they must span 3D (or at least a plane)");
   }
+}
 
-  // Coplanar (exactly or nearly): add auxiliary pairs off the plane (thesis §2.2). Centre c_i
-  // offset by h_c·n (n the centres' plane normal, turned to the side of the given normals) maps to
-  // value v_i offset by h_v·σ·e, where e is the direction along which the values are thinnest,
-  // h_c and h_v a fifth of each side's radius about its centroid, and σ the sign that makes the best
-  // affine map of the plane onto the values keep its orientation (det[m_1, m_2, σe] > 0). Every
-  // quantity is taken from its own side, so the auxiliary pairs turn, move and scale with the
-  // template and with the network independently: the fit does not depend on where either is.
+// Coplanar exactly, or nearly (the affine block's conditioning).
+bool nearly_coplanar(const std::vector<Point_3>& centres) {
+  const auto [centre_shift, centre_diag] = frame_of(centres);
+  return internal::all_coplanar(centres) ||
+         affine_conditioning(centres, centre_shift, 1.0 / centre_diag).first < rbf_coplanarity_bound;
+}
+
+// The largest distance of the points from `centre`: a size that does not change when they turn
+// (a bounding box's diagonal does).
+double radius(const std::vector<Point_3>& pts, const Vector_3& centre) {
+  double r = 0;
+  for (const Point_3& p : pts) r = std::max(r, std::sqrt((p - CGAL::ORIGIN - centre).squared_length()));
+  return r;
+}
+
+// σ: the sign that makes the best affine map of the centres' plane (normal n) onto the values keep
+// its orientation (det[m_1, m_2, σe] > 0). The in-plane part of the map, least squares:
+// v - v̄ ≈ m_1 (c - c̄)·u_1 + m_2 (c - c̄)·u_2.
+double orientation_sign(const std::vector<Point_3>& centres, const Vector_3& centre_shift, double centre_diag,
+                        const std::vector<Point_3>& values, const Vector_3& value_shift, const Vector_3& n,
+                        const Vector_3& e) {
   const std::size_t n0 = centres.size();
-  auto add_auxiliary_pairs = [&] {
-    const auto [centre_shift, centre_diag] = frame_of(centres);
-    const Vector_3 thin = affine_conditioning(centres, centre_shift, 1.0 / centre_diag).second;
-    Vector_3 n = thin / std::sqrt(thin.squared_length());
-    if (!normals.empty() && mean_unit_vector(normals) * n < 0) n = -n;
-    const auto [value_shift0, value_diag0] = frame_of(values);
-    const Vector_3 e0 = affine_conditioning(values, value_shift0, value_diag0 > 0 ? 1.0 / value_diag0 : 1.0).second;
-    const Vector_3 e = e0 / std::sqrt(e0.squared_length());
-    // The in-plane part of the best affine map, least squares: v - v̄ ≈ m_1 (c - c̄)·u_1 + m_2 (c - c̄)·u_2.
-    const Vector_3 u1 = [&] {
-      const Vector_3 a = std::abs(n.x()) < 0.9 ? Vector_3(1, 0, 0) : Vector_3(0, 1, 0);
-      const Vector_3 u = CGAL::cross_product(n, a);
-      return u / std::sqrt(u.squared_length());
-    }();
-    const Vector_3 u2 = CGAL::cross_product(n, u1);
-    Eigen::MatrixXd A(n0, 3), B(n0, 3);
-    for (std::size_t i = 0; i < n0; ++i) {
-      const Vector_3 q = (centres[i] - CGAL::ORIGIN - centre_shift) / centre_diag;
-      const Vector_3 w = values[i] - CGAL::ORIGIN - value_shift0;
-      A.row(static_cast<Eigen::Index>(i)) << q * u1, q * u2, 1.0;
-      B.row(static_cast<Eigen::Index>(i)) << w.x(), w.y(), w.z();
-    }
-    const Eigen::MatrixXd M = A.colPivHouseholderQr().solve(B);  // rows: m_1, m_2, offset
-    const Vector_3 m1(M(0, 0), M(0, 1), M(0, 2)), m2(M(1, 0), M(1, 1), M(1, 2));
-    const double sigma = CGAL::cross_product(m1, m2) * e < 0 ? -1.0 : 1.0;
-    // Sizes that do not change when either side turns (a bounding box's diagonal does).
-    auto radius = [](const std::vector<Point_3>& pts, const Vector_3& centre) {
-      double r = 0;
-      for (const Point_3& p : pts) r = std::max(r, std::sqrt((p - CGAL::ORIGIN - centre).squared_length()));
-      return r;
-    };
-    const double rc = radius(centres, centre_shift), rv = radius(values, value_shift0);
-    const double hc = 0.2 * rc, hv = 0.2 * (rv > 0 ? rv : rc);
-    for (std::size_t i = 0; i < n0; ++i) {
-      centres.push_back(centres[i] + hc * n);
-      values.push_back(values[i] + (hv * sigma) * e);
-    }
-  };
-  {
-    const auto [centre_shift, centre_diag] = frame_of(centres);
-    if (internal::all_coplanar(centres) ||
-        affine_conditioning(centres, centre_shift, 1.0 / centre_diag).first < rbf_coplanarity_bound)
-      add_auxiliary_pairs();
+  const Vector_3 u1 = [&] {
+    const Vector_3 a = std::abs(n.x()) < 0.9 ? Vector_3(1, 0, 0) : Vector_3(0, 1, 0);
+    const Vector_3 u = CGAL::cross_product(n, a);
+    return u / std::sqrt(u.squared_length());
+  }();
+  const Vector_3 u2 = CGAL::cross_product(n, u1);
+  Eigen::MatrixXd A(n0, 3), B(n0, 3);
+  for (std::size_t i = 0; i < n0; ++i) {
+    const Vector_3 q = (centres[i] - CGAL::ORIGIN - centre_shift) / centre_diag;
+    const Vector_3 w = values[i] - CGAL::ORIGIN - value_shift;
+    A.row(static_cast<Eigen::Index>(i)) << q * u1, q * u2, 1.0;
+    B.row(static_cast<Eigen::Index>(i)) << w.x(), w.y(), w.z();
   }
+  const Eigen::MatrixXd M = A.colPivHouseholderQr().solve(B);  // rows: m_1, m_2, offset
+  const Vector_3 m1(M(0, 0), M(0, 1), M(0, 2)), m2(M(1, 0), M(1, 1), M(1, 2));
+  return CGAL::cross_product(m1, m2) * e < 0 ? -1.0 : 1.0;
+}
+
+// Coplanar (exactly or nearly): add auxiliary pairs off the plane (thesis §2.2). Centre c_i
+// offset by h_c·n (n the centres' plane normal, turned to the side of the given normals) maps to
+// value v_i offset by h_v·σ·e, where e is the direction along which the values are thinnest,
+// h_c and h_v a fifth of each side's radius about its centroid, and σ the sign that makes the best
+// affine map of the plane onto the values keep its orientation (det[m_1, m_2, σe] > 0). Every
+// quantity is taken from its own side, so the auxiliary pairs turn, move and scale with the
+// template and with the network independently: the fit does not depend on where either is.
+void add_auxiliary_pairs(Rbf_pairs& pairs) {
+  std::vector<Point_3>& centres = pairs.centres;
+  std::vector<Point_3>& values = pairs.values;
+  const std::size_t n0 = centres.size();
+  const auto [centre_shift, centre_diag] = frame_of(centres);
+  const Vector_3 thin = affine_conditioning(centres, centre_shift, 1.0 / centre_diag).second;
+  Vector_3 n = thin / std::sqrt(thin.squared_length());
+  if (!pairs.normals.empty() && mean_unit_vector(pairs.normals) * n < 0) n = -n;
+  const auto [value_shift0, value_diag0] = frame_of(values);
+  const Vector_3 e0 = affine_conditioning(values, value_shift0, value_diag0 > 0 ? 1.0 / value_diag0 : 1.0).second;
+  const Vector_3 e = e0 / std::sqrt(e0.squared_length());
+  const double sigma = orientation_sign(centres, centre_shift, centre_diag, values, value_shift0, n, e);
+  const double rc = radius(centres, centre_shift), rv = radius(values, value_shift0);
+  const double hc = 0.2 * rc, hv = 0.2 * (rv > 0 ? rv : rc);
+  for (std::size_t i = 0; i < n0; ++i) {
+    centres.push_back(centres[i] + hc * n);
+    values.push_back(values[i] + (hv * sigma) * e);
+  }
+}
+
+}  // namespace
+
+Rbf_interpolant Rbf_interpolant::fit(const std::vector<Point_3>& centres_in,
+                                     const std::vector<Point_3>& values_in, Rbf_kernel kernel,
+                                     const std::vector<Vector_3>& normals_in, Rbf_fit_report* report,
+                                     std::size_t memory_limit, bool orientation_from_layout) {
+  internal::Fp_trap_scope traps;
+  check_pairs(centres_in, values_in, normals_in);
+  Rbf_pairs pairs = distinct_pairs(centres_in, values_in, normals_in);
+  check_span(pairs.centres);
+  const std::size_t n0 = pairs.centres.size();
+  if (nearly_coplanar(pairs.centres)) add_auxiliary_pairs(pairs);
   double residual = 0;
-  Rbf_interpolant E = solve(centres, values, kernel, memory_limit, residual);
+  Rbf_interpolant E = solve(pairs.centres, pairs.values, kernel, memory_limit, residual);
   // Pairs on an open template (a disc, a patch): their layout along the surface fixes the
   // orientation, and their offsets across it are shape, not orientation (a curved patch onto
   // flatter curves, or onto a saddle, correlates either way). When the plain fit mirrors them, the
   // auxiliary pairs decide instead: they keep the layout's orientation.
-  if (orientation_from_layout && centres.size() == n0 && !(E.affine_determinant() > 0)) {
-    add_auxiliary_pairs();
-    E = solve(centres, values, kernel, memory_limit, residual);
+  if (orientation_from_layout && pairs.centres.size() == n0 && !(E.affine_determinant() > 0)) {
+    add_auxiliary_pairs(pairs);
+    E = solve(pairs.centres, pairs.values, kernel, memory_limit, residual);
   }
-  const std::size_t auxiliary = centres.size() - n0;
+  const std::size_t auxiliary = pairs.centres.size() - n0;
 
   if (report) {
-    report->centres = centres.size() - auxiliary;
-    report->repeated_pairs = repeated;
+    report->centres = pairs.centres.size() - auxiliary;
+    report->repeated_pairs = pairs.repeated;
     report->auxiliary_pairs = auxiliary;
     report->relative_residual = residual;
   }

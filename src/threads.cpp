@@ -30,21 +30,28 @@ int number_of_threads() {
 #endif
 }
 
+internal::Scoped_openblas_threads::Scoped_openblas_threads(int n) : m_previous(openblas_get_num_threads()) {
+  openblas_set_num_threads(n);
+}
+
+internal::Scoped_openblas_threads::~Scoped_openblas_threads() { openblas_set_num_threads(m_previous); }
+
 Scoped_number_of_threads::Scoped_number_of_threads(int n) {
   if (n < 0) throw Invalid_input("number_of_threads must be at least 1, not " + std::to_string(n));
   if (n == 0) return;
-  const int openmp = number_of_threads(), openblas = openblas_get_num_threads();
-  set_number_of_threads(n);
+  const int openmp = number_of_threads();
+#ifdef _OPENMP
+  omp_set_num_threads(n);
+#endif
   m_openmp = openmp;
-  m_openblas = openblas;
+  m_openblas.emplace(n);
 }
 
+// OpenMP's count here, OpenBLAS's in m_openblas's destructor, after.
 Scoped_number_of_threads::~Scoped_number_of_threads() {
-  if (m_openmp == 0) return;
 #ifdef _OPENMP
-  omp_set_num_threads(m_openmp);
+  if (m_openmp != 0) omp_set_num_threads(m_openmp);
 #endif
-  openblas_set_num_threads(m_openblas);
 }
 
 }  // namespace meshfit

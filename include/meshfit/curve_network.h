@@ -144,6 +144,13 @@ class Curve_network {
   };
   std::vector<Cell_entry> m_cells;
   std::array<long long, 3> cell_of(const Point_3& p) const;
+  // The constructor's steps, in the order it takes them (curve_network.cpp).
+  class Point_merger;
+  void merge_points(const std::vector<Polyline>& polylines);
+  void make_segments(const std::vector<Input_location>& where);
+  void make_incidences();
+  void number_components();
+  void trace_curves();
   template <typename Visit>
   void visit_near(const std::vector<Cell_entry>& grid, const Point_3& p, const Visit& visit) const;
 };

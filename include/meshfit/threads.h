@@ -10,7 +10,25 @@
 #ifndef MESHFIT_THREADS_H
 #define MESHFIT_THREADS_H
 
+#include <optional>
+
 namespace meshfit {
+
+namespace internal {
+/// Sets OpenBLAS's thread count (only; OpenMP's is left) to `n` for its own lifetime: the
+/// destructor puts it back as it was. Scoped_number_of_threads holds one; the CHOLMOD solves of
+/// displacement.cpp hold one with `n` = 1 around their factorisation.
+class Scoped_openblas_threads {
+ public:
+  explicit Scoped_openblas_threads(int n);  ///< sets the count to `n` (at least 1)
+  ~Scoped_openblas_threads();               ///< puts it back
+  Scoped_openblas_threads(const Scoped_openblas_threads&) = delete;
+  Scoped_openblas_threads& operator=(const Scoped_openblas_threads&) = delete;
+
+ private:
+  int m_previous;  // the count to put back
+};
+}  // namespace internal
 
 /// Limits meshfit's computations to `n` threads: `omp_set_num_threads(n)` and
 /// `openblas_set_num_threads(n)`. OpenMP's setting belongs to the calling thread: call it from the
@@ -39,8 +57,8 @@ class Scoped_number_of_threads {
   Scoped_number_of_threads& operator=(const Scoped_number_of_threads&) = delete;
 
  private:
-  int m_openmp = 0;    // the counts to put back; 0: nothing was changed
-  int m_openblas = 0;
+  int m_openmp = 0;  // the count to put back; 0: nothing was changed
+  std::optional<internal::Scoped_openblas_threads> m_openblas;
 };
 
 }  // namespace meshfit

@@ -196,69 +196,76 @@ struct Parsed {
   Command_line cl;
 };
 
-Parsed parse(int argc, char** argv) {
-  CLI::App app{"meshfit " MESHFIT_VERSION_STRING
-               ": fits a triangle template mesh to a network of 3-D curves; the output is a mesh "
-               "partitioned into the regions the curves bound.\n"
-               "Exit status: 0 success, 1 invalid input, 2 usage error, 3 the algorithm could not complete.",
-               "meshfit"};
-  app.set_version_flag("--version", std::string("meshfit ") + MESHFIT_VERSION_STRING);
-  app.require_subcommand(1, 1);
-  app.fallthrough(false);
-  app.get_formatter()->column_width(30);
-  Parsed parsed;
-  Command_line& cl = parsed.cl;
-  std::map<std::string, std::map<std::string, CLI::Option*>> options;  // command -> option -> CLI11's
-  std::map<std::string, std::string> holder;  // (single values land here, then in cl.values)
-  std::vector<std::string> results, result_reports;
-  std::map<std::string, bool> flags;
-  for (const Command_spec& c : command_specs()) {
-    CLI::App* sub = app.add_subcommand(c.name, c.description);
-    sub->fallthrough(false);
-    auto add = [&](const char* name, bool required) {
-      const Option_spec& o = option_spec(name);
-      CLI::Option* opt = nullptr;
-      const std::string key = std::string(c.name) + " " + name;
-      if (!o.value) {
-        opt = sub->add_flag(name, flags[key], o.help);
-      } else if (std::string(name) == "--result") {
-        // One value per occurrence (repeat the option), so that reports pair with results.
-        opt = sub->add_option(name, results, o.help)->type_name(o.value)->expected(1)->allow_extra_args(false)->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
-      } else if (std::string(name) == "--result-report") {
-        opt = sub->add_option(name, result_reports, o.help)->type_name(o.value)->expected(1)->allow_extra_args(false)->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
-      } else {
-        opt = sub->add_option(name, holder[key], o.help)->type_name(o.value);
-        opt->multi_option_policy(CLI::MultiOptionPolicy::Throw);
-      }
-      if (required) opt->required();
-      options[c.name][name] = opt;
-    };
-    for (const char* r : c.required) add(r, true);
-    for (const char* o : c.optional) add(o, false);
+// CLI11's application with every command's options, and where the values land until parse()
+// puts them in the Command_line. Not movable: CLI11 holds pointers into it.
+class Cli_parser {
+ public:
+  Cli_parser() {
+    m_app.set_version_flag("--version", std::string("meshfit ") + MESHFIT_VERSION_STRING);
+    m_app.require_subcommand(1, 1);
+    m_app.fallthrough(false);
+    m_app.get_formatter()->column_width(30);
+    for (const Command_spec& c : command_specs()) {
+      CLI::App* sub = m_app.add_subcommand(c.name, c.description);
+      sub->fallthrough(false);
+      for (const char* r : c.required) add_option(sub, c, r, true);
+      for (const char* o : c.optional) add_option(sub, c, o, false);
+    }
+  }
+  Cli_parser(const Cli_parser&) = delete;
+  Cli_parser& operator=(const Cli_parser&) = delete;
+
+  Parsed parse(int argc, char** argv) {
+    Parsed parsed;
+    try {
+      m_app.parse(argc, argv);
+    } catch (const CLI::CallForHelp&) {
+      // Help of the command named on the line, or of meshfit.
+      const CLI::App* shown = &m_app;
+      for (const CLI::App* sub : m_app.get_subcommands()) shown = sub;
+      std::cout << (shown == &m_app ? m_app.help() : shown->help("meshfit"));
+      parsed.exit_now = true;
+      return parsed;
+    } catch (const CLI::CallForVersion& e) {
+      std::cout << e.what() << "\n";
+      parsed.exit_now = true;
+      return parsed;
+    } catch (const CLI::ParseError& e) {
+      throw usage_error(e, argc, argv);
+    }
+    parsed.cl = command_line();
+    return parsed;
   }
 
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp&) {
-    // Help of the command named on the line, or of meshfit.
-    const CLI::App* shown = &app;
-    for (const CLI::App* sub : app.get_subcommands()) shown = sub;
-    std::cout << (shown == &app ? app.help() : shown->help("meshfit"));
-    parsed.exit_now = true;
-    return parsed;
-  } catch (const CLI::CallForVersion& e) {
-    std::cout << e.what() << "\n";
-    parsed.exit_now = true;
-    return parsed;
-  } catch (const CLI::ParseError& e) {
-    // A typo gets a suggestion: an option of the command, or a command.
+ private:
+  void add_option(CLI::App* sub, const Command_spec& c, const char* name, bool required) {
+    const Option_spec& o = option_spec(name);
+    CLI::Option* opt = nullptr;
+    const std::string key = std::string(c.name) + " " + name;
+    if (!o.value) {
+      opt = sub->add_flag(name, m_flags[key], o.help);
+    } else if (std::string(name) == "--result") {
+      // One value per occurrence (repeat the option), so that reports pair with results.
+      opt = sub->add_option(name, m_results, o.help)->type_name(o.value)->expected(1)->allow_extra_args(false)->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+    } else if (std::string(name) == "--result-report") {
+      opt = sub->add_option(name, m_result_reports, o.help)->type_name(o.value)->expected(1)->allow_extra_args(false)->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+    } else {
+      opt = sub->add_option(name, m_holder[key], o.help)->type_name(o.value);
+      opt->multi_option_policy(CLI::MultiOptionPolicy::Throw);
+    }
+    if (required) opt->required();
+    m_options[c.name][name] = opt;
+  }
+
+  // CLI11's error with a suggestion for a typo: an option of the command, or a command.
+  Usage_error usage_error(const CLI::ParseError& e, int argc, char** argv) {
     std::string message = e.what(), hint;
-    const CLI::App* sub = app.get_subcommands().empty() ? nullptr : app.get_subcommands().front();
+    const CLI::App* sub = m_app.get_subcommands().empty() ? nullptr : m_app.get_subcommands().front();
     std::vector<std::string> words;
     for (int i = 1; i < argc; ++i) words.push_back(argv[i]);
     if (sub) {
       std::vector<std::string> names;
-      for (const auto& kv : options[sub->get_name()]) names.push_back(kv.first);
+      for (const auto& kv : m_options[sub->get_name()]) names.push_back(kv.first);
       names.push_back("--help");
       for (const std::string& w : words) {
         if (w.size() < 3 || w.compare(0, 2, "--") != 0) continue;
@@ -268,7 +275,7 @@ Parsed parse(int argc, char** argv) {
         hint += "meshfit " + sub->get_name() + " has no option " + name +
                 (s.empty() ? std::string() : "; did you mean " + s + "?") + "\n";
       }
-      throw Usage_error{message + "\n" + hint + "(meshfit " + sub->get_name() + " --help lists its options)"};
+      return Usage_error{message + "\n" + hint + "(meshfit " + sub->get_name() + " --help lists its options)"};
     }
     std::vector<std::string> commands;
     for (const Command_spec& c : command_specs()) commands.push_back(c.name);
@@ -278,36 +285,57 @@ Parsed parse(int argc, char** argv) {
     } else if (words.empty()) {
       hint = "no command given\n";
     }
-    throw Usage_error{hint + message + "\n(meshfit --help lists the commands)"};
+    return Usage_error{hint + message + "\n(meshfit --help lists the commands)"};
   }
 
-  const CLI::App* sub = app.get_subcommands().front();
-  cl.command = sub->get_name();
-  for (const auto& kv : options[cl.command]) {
-    if (kv.second->count() == 0) continue;
-    const std::string key = cl.command + " " + kv.first;
-    if (holder.count(key)) cl.values[kv.first] = holder[key];
+  // The parsed command's values and flags.
+  Command_line command_line() {
+    Command_line cl;
+    const CLI::App* sub = m_app.get_subcommands().front();
+    cl.command = sub->get_name();
+    for (const auto& kv : m_options[cl.command]) {
+      if (kv.second->count() == 0) continue;
+      const std::string key = cl.command + " " + kv.first;
+      if (m_holder.count(key)) cl.values[kv.first] = m_holder[key];
+    }
+    cl.quiet = m_flags[cl.command + " --quiet"];
+    cl.coarse_only = m_flags[cl.command + " --coarse-only"];
+    cl.allow_defects = m_flags[cl.command + " --allow-defects"];
+    cl.no_self_intersection_check = m_flags[cl.command + " --no-self-intersection-check"];
+    cl.curves_in_mesh = m_flags[cl.command + " --curves-in-mesh"];
+    if (cl.command == "view") pair_results(*sub, cl);
+    return cl;
   }
-  cl.quiet = flags[cl.command + " --quiet"];
-  cl.coarse_only = flags[cl.command + " --coarse-only"];
-  cl.allow_defects = flags[cl.command + " --allow-defects"];
-  cl.no_self_intersection_check = flags[cl.command + " --no-self-intersection-check"];
-  cl.curves_in_mesh = flags[cl.command + " --curves-in-mesh"];
-  if (cl.command == "view") {
-    // A report belongs to the --result given before it.
+
+  // A report belongs to the --result given before it.
+  void pair_results(const CLI::App& sub, Command_line& cl) const {
     std::size_t r = 0, rr = 0;
-    for (const CLI::Option* o : sub->parse_order()) {
+    for (const CLI::Option* o : sub.parse_order()) {
       if (o->get_name() == "--result") {
-        cl.results.push_back(results.at(r++));
+        cl.results.push_back(m_results.at(r++));
       } else if (o->get_name() == "--result-report") {
         if (cl.result_reports.size() >= cl.results.size())
-          throw Usage_error{"--result-report " + result_reports.at(rr) + " follows no --result of its own"};
+          throw Usage_error{"--result-report " + m_result_reports.at(rr) + " follows no --result of its own"};
         cl.result_reports.resize(cl.results.size());
-        cl.result_reports.back() = result_reports.at(rr++);
+        cl.result_reports.back() = m_result_reports.at(rr++);
       }
     }
   }
-  return parsed;
+
+  CLI::App m_app{"meshfit " MESHFIT_VERSION_STRING
+                 ": fits a triangle template mesh to a network of 3-D curves; the output is a mesh "
+                 "partitioned into the regions the curves bound.\n"
+                 "Exit status: 0 success, 1 invalid input, 2 usage error, 3 the algorithm could not complete.",
+                 "meshfit"};
+  std::map<std::string, std::map<std::string, CLI::Option*>> m_options;  // command -> option -> CLI11's
+  std::map<std::string, std::string> m_holder;  // (single values land here, then in cl.values)
+  std::vector<std::string> m_results, m_result_reports;
+  std::map<std::string, bool> m_flags;
+};
+
+Parsed parse(int argc, char** argv) {
+  Cli_parser parser;
+  return parser.parse(argc, argv);
 }
 
 /// --threads N: limits OpenMP's and OpenBLAS's threads (meshfit::set_number_of_threads); called by
@@ -856,11 +884,89 @@ void extend_template_attributes(const meshfit::Mesh_data& td, meshfit::Mesh_data
   }
 }
 
+/// The input files of deform and fit.
+std::vector<std::string> fit_input_paths(const Command_line& cl) {
+  return {cl.values.at("--template"), cl.values.at("--curves"), cl.values.at("--correspondences")};
+}
+
+/// A stage's failure, reported with the figures gathered so far; no `message`: none.
+struct Stage_failure {
+  std::string message, stage;
+  std::vector<meshfit::Failure_figure> figures;
+};
+
+/// Stage 1 on the inputs: what went wrong in it, if anything.
+Stage_failure deform_inputs(Fit_inputs& in, const meshfit::Deform_options& options, meshfit::Deformation_report& r) {
+  Stage_failure failure{"", "deform", {}};
+  try {
+    r = meshfit::deform_template(in.tm, in.network, in.pairs, meshfit::deform_parameters(options));
+  } catch (const meshfit::Numerical_error& e) {
+    failure.message = e.what();
+  } catch (const meshfit::Algorithm_failure& e) {
+    failure.message = e.stage() == "deform" ? e.reason() : e.what();
+    failure.stage = e.stage();
+    failure.figures = e.figures();
+  }
+  return failure;
+}
+
+/// What makes a deformation that ran to its end a failure all the same, or "".
+std::string deform_result_failure(const meshfit::Deformation_report& r, const meshfit::Deform_options& options) {
+  if (r.orientation_reversed) return meshfit::orientation_reversal_message(r.coarse_affine_determinant);
+  if (options.curve_density == meshfit::Curve_density::refine && !r.dropped_network_vertices.empty())
+    return std::to_string(r.dropped_network_vertices.size()) +
+           " network vertices could not be given a mesh vertex of their own (their nearest "
+           "surface points are taken by nearer ones); --curve-density drop accepts that";
+  if (r.remaining_flips > 0) return meshfit::remaining_flips_message(r);
+  return "";
+}
+
+/// The counts of the fine level's pairs and of the flips, in the reports of deform and fit.
+void add_flip_counts(const meshfit::Deformation_report& r, Json& counts) {
+  counts["fine_pairs"] = r.fine_pairs;
+  counts["flip_rounds"] = r.flip_rounds;
+  counts["flips_found"] = r.flips_found;
+  counts["flips_fixed"] = r.flips_found - r.remaining_flips;
+  counts["flips_remaining"] = r.remaining_flips;
+  counts["coarse_flipped_faces"] = r.coarse_flipped_faces;
+}
+
+/// The counts of the faces subdivided and the vertices inserted, in the reports of deform and fit.
+void add_insertion_counts(const meshfit::Deformation_report& r, Json& counts) {
+  counts["faces_subdivided"] = r.faces_subdivided;
+  counts["vertices_inserted_for_density"] = r.vertices_inserted_for_density;
+  counts["vertices_inserted_for_flips"] = r.vertices_inserted_for_flips;
+}
+
+Json deform_report(const meshfit::Deformation_report& r, const Stage_failure& failure, const Fit_inputs& in,
+                   const meshfit::Mesh_data& out) {
+  std::size_t embedded = 0;
+  for (std::size_t v : r.mesh_vertex_of_network_vertex) embedded += v != meshfit::Closest_point_assignment::unassigned;
+  Json js = report_skeleton("deform", failure.message, failure.stage,
+                            failure.message.empty() ? success : algorithm_failed, failure.figures);
+  js["timings_s"] = {{"read", number(in.read_seconds)}, {"coarse", number(r.coarse_seconds)},
+                     {"fine", number(r.fine_seconds)}, {"total", number(progress_display.seconds())}};
+  Json& counts = js["counts"];
+  counts["correspondences"] = r.user_pairs;
+  counts["coarse_auxiliary_pairs"] = r.coarse_fit.auxiliary_pairs;
+  add_flip_counts(r, counts);
+  counts["orientation_reversed"] = r.orientation_reversed;
+  add_insertion_counts(r, counts);
+  counts["network_vertices"] = in.network.number_of_vertices();
+  counts["network_vertices_embedded"] = embedded;
+  counts["network_vertices_dropped"] = r.dropped_network_vertices.size();
+  js["quality"] = json_quality(out);
+  js["details"]["fine_level"] = json_fine_level(r);
+  js["details"]["residuals"] = {{"coarse", number(r.coarse_fit.relative_residual)},
+                                {"fine", number(r.fine_fit.relative_residual)}};
+  if (r.coarse_flipped_faces > 0)
+    js["warnings"].push_back("the coarse level turns " + std::to_string(r.coarse_flipped_faces) +
+                             " faces over relative to its affine part");
+  return js;
+}
+
 int run_deform(const Command_line& cl) {
-  const std::string& template_path = cl.values.at("--template");
-  const std::string& curves_path = cl.values.at("--curves");
-  const std::string& pairs_path = cl.values.at("--correspondences");
-  const std::vector<std::string> inputs{template_path, curves_path, pairs_path};
+  const std::vector<std::string> inputs = fit_input_paths(cl);
   const std::string report_path = check_outputs(cl, inputs);
   apply_thread_limit(cl);
 
@@ -870,72 +976,29 @@ int run_deform(const Command_line& cl) {
 
   Fit_inputs in;
   read_fit_inputs(cl, in);
-  Mesh& tm = in.tm;
-  const meshfit::Curve_network& network = in.network;
-  const auto& pairs = in.pairs;
-  const double read_s = in.read_seconds;
-
-  const bool quiet = cl.quiet;
   meshfit::Deformation_report r;
-  std::string failure, stage = "deform";  // a failure, reported with the figures gathered so far
-  std::vector<meshfit::Failure_figure> figures;
-  try {
-    r = meshfit::deform_template(tm, network, pairs, meshfit::deform_parameters(options));
-  } catch (const meshfit::Numerical_error& e) {
-    failure = e.what();
-  } catch (const meshfit::Algorithm_failure& e) {
-    failure = e.stage() == "deform" ? e.reason() : e.what();
-    stage = e.stage();
-    figures = e.figures();
-  }
-  if (failure.empty() && r.orientation_reversed)
-    failure = meshfit::orientation_reversal_message(r.coarse_affine_determinant);
-  else if (failure.empty() && options.curve_density == meshfit::Curve_density::refine && !r.dropped_network_vertices.empty())
-    failure = std::to_string(r.dropped_network_vertices.size()) +
-              " network vertices could not be given a mesh vertex of their own (their nearest "
-              "surface points are taken by nearer ones); --curve-density drop accepts that";
-  else if (failure.empty() && r.remaining_flips > 0)
-    failure = meshfit::remaining_flips_message(r);
-  meshfit::Mesh_data out = meshfit::to_mesh_data(tm);
-  if (failure.empty()) extend_template_attributes(in.template_data, out);
+  Stage_failure failure = deform_inputs(in, options, r);
+  if (failure.message.empty()) failure.message = deform_result_failure(r, options);
+  meshfit::Mesh_data out = meshfit::to_mesh_data(in.tm);
+  if (failure.message.empty()) extend_template_attributes(in.template_data, out);
 
-  if (!report_path.empty()) {
-    std::size_t embedded = 0;
-    for (std::size_t v : r.mesh_vertex_of_network_vertex) embedded += v != meshfit::Closest_point_assignment::unassigned;
-    Json js = report_skeleton("deform", failure, stage, failure.empty() ? success : algorithm_failed, figures);
-    js["timings_s"] = {{"read", number(read_s)}, {"coarse", number(r.coarse_seconds)}, {"fine", number(r.fine_seconds)},
-                       {"total", number(progress_display.seconds())}};
-    js["counts"] = {{"correspondences", r.user_pairs},
-                    {"coarse_auxiliary_pairs", r.coarse_fit.auxiliary_pairs},
-                    {"fine_pairs", r.fine_pairs},
-                    {"flip_rounds", r.flip_rounds},
-                    {"flips_found", r.flips_found},
-                    {"flips_fixed", r.flips_found - r.remaining_flips},
-                    {"flips_remaining", r.remaining_flips},
-                    {"coarse_flipped_faces", r.coarse_flipped_faces},
-                    {"orientation_reversed", r.orientation_reversed},
-                    {"faces_subdivided", r.faces_subdivided},
-                    {"vertices_inserted_for_density", r.vertices_inserted_for_density},
-                    {"vertices_inserted_for_flips", r.vertices_inserted_for_flips},
-                    {"network_vertices", network.number_of_vertices()},
-                    {"network_vertices_embedded", embedded},
-                    {"network_vertices_dropped", r.dropped_network_vertices.size()}};
-    js["quality"] = json_quality(out);
-    js["details"]["fine_level"] = json_fine_level(r);
-    js["details"]["residuals"] = {{"coarse", number(r.coarse_fit.relative_residual)},
-                                  {"fine", number(r.fine_fit.relative_residual)}};
-    if (r.coarse_flipped_faces > 0)
-      js["warnings"].push_back("the coarse level turns " + std::to_string(r.coarse_flipped_faces) +
-                               " faces over relative to its affine part");
-    write_report(report_path, js);
-  }
+  if (!report_path.empty()) write_report(report_path, deform_report(r, failure, in, out));
   progress_display.finish();
-  if (!failure.empty()) throw meshfit::Algorithm_failure("deform", failure);
-  if (!quiet && r.coarse_flipped_faces > 0)
+  if (!failure.message.empty()) throw meshfit::Algorithm_failure("deform", failure.message);
+  if (!cl.quiet && r.coarse_flipped_faces > 0)
     std::cerr << "meshfit: deform: warning: the coarse level turns " << r.coarse_flipped_faces
               << " faces over relative to its affine part (more or better-spread pairs help)\n";
   write_output(cl, out, inputs, report_path);
   return success;
+}
+
+/// How the segments were made mesh edges, in the reports of partition and fit.
+void add_segment_counts(const meshfit::Partition_report& r, Json& counts) {
+  counts["segments"] = r.segments;
+  counts["segments_already_edges"] = r.existing_edges;
+  counts["segments_embedded_by_walk"] = r.by_walk;
+  counts["segments_embedded_by_fallback"] = r.by_fallback;
+  counts["segments_not_embedded"] = r.not_embedded.size();
 }
 
 int run_partition(const Command_line& cl) {
@@ -982,18 +1045,15 @@ int run_partition(const Command_line& cl) {
   Json js = report_skeleton("partition", failure, "partition", failure.empty() ? success : algorithm_failed);
   js["timings_s"] = {{"read", number(read_s)}, {"partition", number(r.seconds)},
                      {"total", number(progress_display.seconds())}};
-  js["counts"] = {{"segments", r.segments},
-                  {"segments_already_edges", r.existing_edges},
-                  {"segments_embedded_by_walk", r.by_walk},
-                  {"segments_embedded_by_fallback", r.by_fallback},
-                  {"segments_not_embedded", r.not_embedded.size()},
-                  {"walks_failed", r.walks_failed},
-                  {"faces_crossed", r.faces_crossed},
-                  {"edge_flips", r.edge_flips},
-                  {"vertices_moved_onto_segments", r.vertices_moved},
-                  {"vertices_moved", r.vertices_moved},  // deprecated (doc/report.md): the same figure
-                  {"curve_edges", r.curve_edges},
-                  {"regions", r.regions}};
+  Json& counts = js["counts"];
+  add_segment_counts(r, counts);
+  counts.update(Json{{"walks_failed", r.walks_failed},
+                     {"faces_crossed", r.faces_crossed},
+                     {"edge_flips", r.edge_flips},
+                     {"vertices_moved_onto_segments", r.vertices_moved},
+                     {"vertices_moved", r.vertices_moved},  // deprecated (doc/report.md): the same figure
+                     {"curve_edges", r.curve_edges},
+                     {"regions", r.regions}});
   js["quality"] = json_quality(out);
   js["details"]["not_embedded_segments"] = r.not_embedded;
   if (failure.empty()) note_curve_output(cl, out, js);
@@ -1053,6 +1113,136 @@ Smooth_options smooth_options(const Command_line& cl) {
   return o;
 }
 
+using Edge_flags = Mesh::Property_map<Mesh::Edge_index, bool>;
+using Vertex_flags = Mesh::Property_map<Mesh::Vertex_index, bool>;
+
+/// How much of the --curves network smooth found on the mesh (all 0 without --curves).
+struct Network_match {
+  std::size_t network_vertices = 0, matched_vertices = 0, segments = 0, matched_segments = 0;
+};
+
+/// What smooth read and did, for its report and messages.
+struct Smooth_run {
+  meshfit::Mesh_read_report read_report;
+  meshfit::Mesh_data data;
+  std::string curves_beside;  ///< the curve-edge file read beside the mesh, if any
+  Network_match match;
+  std::size_t curve_edges = 0;
+  double min_angle_before = 0, read_seconds = 0;
+  meshfit::Smoothing_report r;
+  std::string failure, ignored_edges;
+};
+
+/// Reads smooth's mesh, with the curve edges partition's output keeps beside it.
+void read_smooth_mesh(const Command_line& cl, Smooth_run& run) {
+  const std::string& template_path = cl.values.at("--template");
+  run.data = meshfit::read_mesh_data(template_path, &run.read_report);
+  warn_dropped_attributes(run.read_report, template_path, cl.quiet);
+  note_vertex_attributes(run.data, template_path, cl);  // smoothing moves vertices only
+  // partition's output keeps its curve edges beside it unless --curves-in-mesh: they are the
+  // constraints all the same.
+  run.curves_beside = meshfit_cli::add_curve_edges_beside(run.data, template_path);
+  if (!run.curves_beside.empty()) pending_report.inputs["curve_edges"] = run.curves_beside;
+  if (run.data.triangles.empty())
+    throw meshfit::Invalid_input(meshfit::Input_location{template_path, 0, meshfit::Input_location::no_offset},
+                                 "the template has no face");
+}
+
+/// Pins the mesh vertices at the network's vertices and flags the mesh edges along its segments.
+Network_match hold_network(const meshfit::Curve_network& network, const Mesh& tm, Edge_flags curve,
+                           Vertex_flags pinned) {
+  Network_match m;
+  m.network_vertices = network.number_of_vertices();
+  m.segments = network.number_of_segments();
+  std::vector<Mesh::Vertex_index> on(m.network_vertices, Mesh::null_vertex());
+  // A vertex of no face (an unused copy) holds no curve: the network is matched to the surface.
+  for (auto v : tm.vertices())
+    if (const auto nv = tm.is_isolated(v) ? std::nullopt : network.find_vertex(tm.point(v))) {
+      if (on[*nv] == Mesh::null_vertex()) ++m.matched_vertices;
+      on[*nv] = v;
+      pinned[v] = true;
+    }
+  for (const auto& seg : network.segments()) {
+    if (on[seg[0]] == Mesh::null_vertex() || on[seg[1]] == Mesh::null_vertex()) continue;
+    const auto h = CGAL::halfedge(on[seg[0]], on[seg[1]], tm);
+    if (!h.second) continue;
+    curve[tm.edge(h.first)] = true;
+    ++m.matched_segments;
+  }
+  return m;
+}
+
+/// Stage 3 on `tm`: the numerical failure's message, or "".
+std::string smooth_mesh(Mesh& tm, const Smooth_options& so, Edge_flags curve, Vertex_flags pinned,
+                        meshfit::Smoothing_report& r) {
+  const meshfit::Progress_callback progress = progress_printer();
+  try {
+    r = meshfit::smooth_fitted_mesh(tm, meshfit::parameters::mean_curvature_iterations(so.mean_curvature_iterations)
+                                            .laplacian_iterations(so.laplacian_iterations)
+                                            .step_size(so.step)
+                                            .progress(progress)
+                                            .edge_is_constrained_map(curve)
+                                            .vertex_is_constrained_map(pinned));
+  } catch (const meshfit::Numerical_error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+/// The smoothed positions and the curve edges of `tm` in `data` (vertex i of one is vertex i of
+/// the other).
+void take_smoothed_mesh(const Mesh& tm, Edge_flags curve, meshfit::Mesh_data& data) {
+  for (auto v : tm.vertices()) data.points[v.idx()] = tm.point(v);
+  data.curve_edges.clear();
+  for (auto e : tm.edges())
+    if (curve[e]) data.curve_edges.push_back({tm.vertex(e, 0).idx(), tm.vertex(e, 1).idx()});
+}
+
+Json smooth_report(const Command_line& cl, const Smooth_options& so, const Smooth_run& run) {
+  const meshfit::Smoothing_report& r = run.r;
+  const Network_match& m = run.match;
+  Json js = report_skeleton("smooth", run.failure, "smooth", run.failure.empty() ? success : algorithm_failed);
+  js["timings_s"] = {{"read", number(run.read_seconds)}, {"smooth", number(r.seconds)},
+                     {"total", number(progress_display.seconds())}};
+  js["counts"] = {{"iterations", r.iterations},
+                  {"mean_curvature_iterations", so.mean_curvature_iterations},
+                  {"laplacian_iterations", so.laplacian_iterations},
+                  {"fixed_vertices", r.fixed_vertices},
+                  {"curve_edges", run.curve_edges},
+                  {"unflagged_edges_ignored", run.read_report.unflagged_edges_ignored},
+                  {"network_vertices", m.network_vertices},
+                  {"network_vertices_on_mesh", m.matched_vertices},
+                  {"network_segments", m.segments},
+                  {"network_segments_on_mesh", m.matched_segments},
+                  {"steps_reduced", r.steps_reduced},
+                  {"steps_cancelled", r.steps_cancelled},
+                  {"clamped_cotangents", r.clamped_cotangents},
+                  {"projections_clamped", r.projections_clamped}};
+  js["quality"] = json_quality(run.data);
+  js["quality"]["minimum_angle_deg_before"] = number(run.min_angle_before);
+  js["details"]["displacement"] = {{"mean", number(r.mean_displacement)},
+                                   {"max", number(r.max_displacement)},
+                                   {"last_iteration_max", number(r.last_step_max_displacement)}};
+  if (!run.ignored_edges.empty()) js["warnings"].push_back(run.ignored_edges);
+  if (!run.curves_beside.empty()) js["warnings"].push_back("curve edges read from " + run.curves_beside);
+  if (m.segments > m.matched_segments)
+    js["warnings"].push_back(std::to_string(m.segments - m.matched_segments) + " of " + std::to_string(m.segments) +
+                             " network segments are not mesh edges");
+  if (run.failure.empty()) note_curve_output(cl, run.data, js);
+  return js;
+}
+
+/// smooth's lines on stderr after a smoothing that did not fail.
+void print_smooth_summary(const Smooth_run& run) {
+  const Network_match& m = run.match;
+  if (m.segments > m.matched_segments)
+    std::cerr << "meshfit: smooth: warning: " << m.segments - m.matched_segments << " of " << m.segments
+              << " network segments are not mesh edges (run partition first); their vertices on the mesh are "
+                 "still fixed\n";
+  std::cerr << "meshfit: smooth: " << run.r.iterations << " iterations, " << run.r.fixed_vertices
+            << " vertices fixed, mean displacement " << run.r.mean_displacement << "\n";
+}
+
 int run_smooth(const Command_line& cl) {
   const std::string& template_path = cl.values.at("--template");
   std::vector<std::string> inputs{template_path};
@@ -1060,121 +1250,36 @@ int run_smooth(const Command_line& cl) {
   const std::string report_path = check_outputs(cl, inputs);
   apply_thread_limit(cl);
   const Smooth_options so = smooth_options(cl);
-  const long mc = so.mean_curvature_iterations, lap = so.laplacian_iterations;
-  const double step = so.step;
 
   const auto t0 = std::chrono::steady_clock::now();
-  meshfit::Mesh_read_report read_report;
-  meshfit::Mesh_data data = meshfit::read_mesh_data(template_path, &read_report);
-  warn_dropped_attributes(read_report, template_path, cl.quiet);
-  note_vertex_attributes(data, template_path, cl);  // smoothing moves vertices only
-  // partition's output keeps its curve edges beside it unless --curves-in-mesh: they are the
-  // constraints all the same.
-  const std::string curves_beside = meshfit_cli::add_curve_edges_beside(data, template_path);
-  if (!curves_beside.empty()) pending_report.inputs["curve_edges"] = curves_beside;
-  if (data.triangles.empty())
-    throw meshfit::Invalid_input(meshfit::Input_location{template_path, 0, meshfit::Input_location::no_offset},
-                                 "the template has no face");
+  Smooth_run run;
+  read_smooth_mesh(cl, run);
   Mesh tm;
   auto curve = tm.add_property_map<Mesh::Edge_index, bool>("e:meshfit_curve", false).first;
   // Vertex i of the file is vertex i of tm (build_triangle_mesh keeps the order).
-  meshfit::build_triangle_mesh(data, tm, CGAL::parameters::edge_is_constrained_map(curve));
+  meshfit::build_triangle_mesh(run.data, tm, CGAL::parameters::edge_is_constrained_map(curve));
   auto pinned = tm.add_property_map<Mesh::Vertex_index, bool>("v:meshfit_pinned", false).first;
-  std::size_t network_vertices = 0, matched_vertices = 0, segments = 0, matched_segments = 0;
-  if (cl.values.count("--curves")) {
-    const meshfit::Curve_network network = meshfit::read_curve_network(cl.values.at("--curves"), merge_tolerance(cl));
-    network_vertices = network.number_of_vertices();
-    segments = network.number_of_segments();
-    std::vector<Mesh::Vertex_index> on(network_vertices, Mesh::null_vertex());
-    // A vertex of no face (an unused copy) holds no curve: the network is matched to the surface.
-    for (auto v : tm.vertices())
-      if (const auto nv = tm.is_isolated(v) ? std::nullopt : network.find_vertex(tm.point(v))) {
-        if (on[*nv] == Mesh::null_vertex()) ++matched_vertices;
-        on[*nv] = v;
-        pinned[v] = true;
-      }
-    for (const auto& seg : network.segments()) {
-      if (on[seg[0]] == Mesh::null_vertex() || on[seg[1]] == Mesh::null_vertex()) continue;
-      const auto h = CGAL::halfedge(on[seg[0]], on[seg[1]], tm);
-      if (!h.second) continue;
-      curve[tm.edge(h.first)] = true;
-      ++matched_segments;
-    }
-  }
-  std::size_t curve_edges = 0;
-  for (auto e : tm.edges()) curve_edges += curve[e];
-  const double min_angle_before = meshfit::minimum_angle_degrees(data);
-  const double read_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (cl.values.count("--curves"))
+    run.match = hold_network(meshfit::read_curve_network(cl.values.at("--curves"), merge_tolerance(cl)), tm, curve,
+                             pinned);
+  for (auto e : tm.edges()) run.curve_edges += curve[e];
+  run.min_angle_before = meshfit::minimum_angle_degrees(run.data);
+  run.read_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
-  const bool quiet = cl.quiet;
-  const meshfit::Progress_callback progress = progress_printer();
-  meshfit::Smoothing_report r;
-  std::string failure;
-  try {
-    r = meshfit::smooth_fitted_mesh(tm, meshfit::parameters::mean_curvature_iterations(mc)
-                                            .laplacian_iterations(lap)
-                                            .step_size(step)
-                                            .progress(progress)
-                                            .edge_is_constrained_map(curve)
-                                            .vertex_is_constrained_map(pinned));
-  } catch (const meshfit::Numerical_error& e) {
-    failure = e.what();
-  }
-  for (auto v : tm.vertices()) data.points[v.idx()] = tm.point(v);
-  data.curve_edges.clear();
-  for (auto e : tm.edges())
-    if (curve[e]) data.curve_edges.push_back({tm.vertex(e, 0).idx(), tm.vertex(e, 1).idx()});
-
+  run.failure = smooth_mesh(tm, so, curve, pinned, run.r);
+  take_smoothed_mesh(tm, curve, run.data);
   // A listed edge without a curve flag (CGAL's write_PLY lists every edge) is not a constraint.
-  const std::string ignored_edges =
-      read_report.unflagged_edges_ignored == 0
-          ? std::string()
-          : std::to_string(read_report.unflagged_edges_ignored) + " edges of " + template_path +
-                " carry no curve flag (an integer edge property 'curve'): they are not held as curve edges";
-  if (!report_path.empty()) {
-    Json js = report_skeleton("smooth", failure, "smooth", failure.empty() ? success : algorithm_failed);
-    js["timings_s"] = {{"read", number(read_s)}, {"smooth", number(r.seconds)},
-                       {"total", number(progress_display.seconds())}};
-    js["counts"] = {{"iterations", r.iterations},
-                    {"mean_curvature_iterations", mc},
-                    {"laplacian_iterations", lap},
-                    {"fixed_vertices", r.fixed_vertices},
-                    {"curve_edges", curve_edges},
-                    {"unflagged_edges_ignored", read_report.unflagged_edges_ignored},
-                    {"network_vertices", network_vertices},
-                    {"network_vertices_on_mesh", matched_vertices},
-                    {"network_segments", segments},
-                    {"network_segments_on_mesh", matched_segments},
-                    {"steps_reduced", r.steps_reduced},
-                    {"steps_cancelled", r.steps_cancelled},
-                    {"clamped_cotangents", r.clamped_cotangents},
-                    {"projections_clamped", r.projections_clamped}};
-    js["quality"] = json_quality(data);
-    js["quality"]["minimum_angle_deg_before"] = number(min_angle_before);
-    js["details"]["displacement"] = {{"mean", number(r.mean_displacement)},
-                                     {"max", number(r.max_displacement)},
-                                     {"last_iteration_max", number(r.last_step_max_displacement)}};
-    if (!ignored_edges.empty()) js["warnings"].push_back(ignored_edges);
-    if (!curves_beside.empty()) js["warnings"].push_back("curve edges read from " + curves_beside);
-    if (segments > matched_segments)
-      js["warnings"].push_back(std::to_string(segments - matched_segments) + " of " + std::to_string(segments) +
-                               " network segments are not mesh edges");
-    if (failure.empty()) note_curve_output(cl, data, js);
-    write_report(report_path, js);
-  }
+  if (run.read_report.unflagged_edges_ignored != 0)
+    run.ignored_edges = std::to_string(run.read_report.unflagged_edges_ignored) + " edges of " + template_path +
+                        " carry no curve flag (an integer edge property 'curve'): they are not held as curve edges";
+  if (!report_path.empty()) write_report(report_path, smooth_report(cl, so, run));
   progress_display.finish();
-  if (!quiet && !ignored_edges.empty()) std::cerr << "meshfit: smooth: warning: " << ignored_edges << "\n";
-  if (!quiet && !curves_beside.empty())
-    std::cerr << "meshfit: smooth: curve edges read from " << curves_beside << "\n";
-  if (!failure.empty()) throw meshfit::Algorithm_failure("smooth", failure);
-  if (!quiet && segments > matched_segments)
-    std::cerr << "meshfit: smooth: warning: " << segments - matched_segments << " of " << segments
-              << " network segments are not mesh edges (run partition first); their vertices on the mesh are "
-                 "still fixed\n";
-  if (!quiet)
-    std::cerr << "meshfit: smooth: " << r.iterations << " iterations, " << r.fixed_vertices
-              << " vertices fixed, mean displacement " << r.mean_displacement << "\n";
-  write_output(cl, data, inputs, report_path);
+  if (!cl.quiet && !run.ignored_edges.empty()) std::cerr << "meshfit: smooth: warning: " << run.ignored_edges << "\n";
+  if (!cl.quiet && !run.curves_beside.empty())
+    std::cerr << "meshfit: smooth: curve edges read from " << run.curves_beside << "\n";
+  if (!run.failure.empty()) throw meshfit::Algorithm_failure("smooth", run.failure);
+  if (!cl.quiet) print_smooth_summary(run);
+  write_output(cl, run.data, inputs, report_path);
   return success;
 }
 
@@ -1205,40 +1310,58 @@ int run_view(const Command_line& cl) {
   return success;
 }
 
-int run_fit(const Command_line& cl) {
-  const std::vector<std::string> inputs{cl.values.at("--template"), cl.values.at("--curves"),
-                                        cl.values.at("--correspondences")};
-  const std::string report_path = check_outputs(cl, inputs);
-  apply_thread_limit(cl);
-  meshfit::Deform_options d = deform_options(cl);
-  d.progress = progress_printer();
-  const Smooth_options so = smooth_options(cl);
-  Fit_inputs in;
-  read_fit_inputs(cl, in);
+/// The template's vertex attributes on fit's mesh, which carries them to the vertices it adds
+/// (harmonic extension).
+struct Attribute_maps {
+  Mesh::Property_map<Mesh::Vertex_index, meshfit::Kernel::Point_2> uv;
+  Mesh::Property_map<Mesh::Vertex_index, meshfit::Vector_3> normal;
+  Mesh::Property_map<Mesh::Vertex_index, CGAL::IO::Color> colour;
+};
 
-  auto curve = in.tm.add_property_map<Mesh::Edge_index, bool>("e:meshfit_curve", false).first;
-  auto region = in.tm.add_property_map<Mesh::Face_index, int>("f:meshfit_region", 0).first;
-  // The template's vertex attributes, carried by fit to the vertices it adds (harmonic extension).
-  const meshfit::Mesh_data& td = in.template_data;
-  const bool attributes = !vertex_attribute_names(td).empty();
-  auto uv = in.tm.add_property_map<Mesh::Vertex_index, meshfit::Kernel::Point_2>("v:meshfit_uv").first;
-  auto normal = in.tm.add_property_map<Mesh::Vertex_index, meshfit::Vector_3>("v:meshfit_normal").first;
-  auto colour = in.tm.add_property_map<Mesh::Vertex_index, CGAL::IO::Color>("v:meshfit_colour").first;
-  if (attributes) {
-    std::size_t i = 0;
-    for (auto v : in.tm.vertices()) {
-      if (!td.vertex_uvs.empty()) uv[v] = {td.vertex_uvs[i][0], td.vertex_uvs[i][1]};
-      if (!td.vertex_normals.empty()) normal[v] = {td.vertex_normals[i][0], td.vertex_normals[i][1], td.vertex_normals[i][2]};
-      if (!td.vertex_colors.empty()) {
-        auto byte = [&](int k) { return static_cast<unsigned char>(std::lround(std::clamp(td.vertex_colors[i][k], 0.0, 1.0) * 255)); };
-        colour[v] = CGAL::IO::Color(byte(0), byte(1), byte(2), byte(3));
-      }
-      ++i;
+/// The maps on `tm`, holding the attributes of `td` (vertex i of tm is vertex i of td) when it has any.
+Attribute_maps template_attribute_maps(Mesh& tm, const meshfit::Mesh_data& td, bool attributes) {
+  Attribute_maps m{tm.add_property_map<Mesh::Vertex_index, meshfit::Kernel::Point_2>("v:meshfit_uv").first,
+                   tm.add_property_map<Mesh::Vertex_index, meshfit::Vector_3>("v:meshfit_normal").first,
+                   tm.add_property_map<Mesh::Vertex_index, CGAL::IO::Color>("v:meshfit_colour").first};
+  if (!attributes) return m;
+  std::size_t i = 0;
+  for (auto v : tm.vertices()) {
+    if (!td.vertex_uvs.empty()) m.uv[v] = {td.vertex_uvs[i][0], td.vertex_uvs[i][1]};
+    if (!td.vertex_normals.empty()) m.normal[v] = {td.vertex_normals[i][0], td.vertex_normals[i][1], td.vertex_normals[i][2]};
+    if (!td.vertex_colors.empty()) {
+      auto byte = [&](int k) { return static_cast<unsigned char>(std::lround(std::clamp(td.vertex_colors[i][k], 0.0, 1.0) * 255)); };
+      m.colour[v] = CGAL::IO::Color(byte(0), byte(1), byte(2), byte(3));
     }
+    ++i;
   }
-  meshfit::Fit_report r;
-  std::string failure, stage = "fit";  // a failure, reported with the figures gathered so far
-  std::vector<meshfit::Failure_figure> figures;
+  return m;
+}
+
+/// Template vertex i is output vertex i and keeps its attributes exactly as read; the vertices
+/// fit added take theirs from the maps (colours as bytes).
+void take_fitted_attributes(const Mesh& tm, const meshfit::Mesh_data& td, const Attribute_maps& m,
+                            meshfit::Mesh_data& out) {
+  const std::size_t nt = td.points.size();
+  std::size_t i = 0;
+  for (auto v : tm.vertices()) {
+    if (!td.vertex_uvs.empty())
+      out.vertex_uvs.push_back(i < nt ? td.vertex_uvs[i] : std::array<double, 2>{m.uv[v].x(), m.uv[v].y()});
+    if (!td.vertex_normals.empty())
+      out.vertex_normals.push_back(i < nt ? td.vertex_normals[i]
+                                          : std::array<double, 3>{m.normal[v].x(), m.normal[v].y(), m.normal[v].z()});
+    if (!td.vertex_colors.empty())
+      out.vertex_colors.push_back(i < nt ? td.vertex_colors[i]
+                                         : std::array<double, 4>{m.colour[v].r() / 255.0, m.colour[v].g() / 255.0,
+                                                                 m.colour[v].b() / 255.0, m.colour[v].a() / 255.0});
+    ++i;
+  }
+}
+
+/// The whole pipeline on the inputs: what went wrong in it, if anything.
+Stage_failure fit_inputs(const Command_line& cl, Fit_inputs& in, const meshfit::Deform_options& d,
+                         const Smooth_options& so, Edge_flags curve, Mesh::Property_map<Mesh::Face_index, int> region,
+                         Attribute_maps* attributes, meshfit::Fit_report& r) {
+  Stage_failure failure{"", "fit", {}};
   try {
     const auto np =
         meshfit::deform_parameters(d)
@@ -1249,117 +1372,130 @@ int run_fit(const Command_line& cl) {
             .edge_is_constrained_map(curve)
             .face_patch_map(region);
     // Without attributes, no maps: fit would extend them all the same.
-    r = attributes ? meshfit::fit_template_to_curves(
-                         in.tm, in.network, in.pairs,
-                         np.vertex_texture_map(uv).vertex_normal_map(normal).vertex_color_map(colour))
+    r = attributes ? meshfit::fit_template_to_curves(in.tm, in.network, in.pairs,
+                                                     np.vertex_texture_map(attributes->uv)
+                                                         .vertex_normal_map(attributes->normal)
+                                                         .vertex_color_map(attributes->colour))
                    : meshfit::fit_template_to_curves(in.tm, in.network, in.pairs, np);
   } catch (const meshfit::Numerical_error& e) {
-    failure = e.what();
-    stage = pending_report.stage;
+    failure.message = e.what();
+    failure.stage = pending_report.stage;
   } catch (const meshfit::Algorithm_failure& e) {
-    failure = e.what();
-    stage = e.stage();
-    figures = e.figures();
+    failure.message = e.what();
+    failure.stage = e.stage();
+    failure.figures = e.figures();
   }
-  meshfit::Mesh_data out =
-      meshfit::to_mesh_data(in.tm, CGAL::parameters::edge_is_constrained_map(curve).face_patch_map(region));
-  // Template vertex i is output vertex i and keeps its attributes exactly as read; the vertices
-  // fit added take theirs from the maps (colours as bytes).
-  if (attributes && failure.empty()) {
-    const std::size_t nt = td.points.size();
-    std::size_t i = 0;
-    for (auto v : in.tm.vertices()) {
-      if (!td.vertex_uvs.empty())
-        out.vertex_uvs.push_back(i < nt ? td.vertex_uvs[i] : std::array<double, 2>{uv[v].x(), uv[v].y()});
-      if (!td.vertex_normals.empty())
-        out.vertex_normals.push_back(i < nt ? td.vertex_normals[i]
-                                            : std::array<double, 3>{normal[v].x(), normal[v].y(), normal[v].z()});
-      if (!td.vertex_colors.empty())
-        out.vertex_colors.push_back(i < nt ? td.vertex_colors[i]
-                                           : std::array<double, 4>{colour[v].r() / 255.0, colour[v].g() / 255.0,
-                                                                   colour[v].b() / 255.0, colour[v].a() / 255.0});
-      ++i;
-    }
-  }
-  const meshfit::Fit_verification& v = r.verification;
-  const std::vector<std::string> problems = v.problems();
-  const bool completed = failure.empty();
-  if (completed && !problems.empty() && !cl.allow_defects) {
-    std::string list;
-    for (std::size_t i = 0; i < problems.size(); ++i) list += (i ? "; " : "") + problems[i];
-    failure = "the result failed verification: " + list + " (--allow-defects writes it anyway)";
-  }
-  const meshfit::Deformation_report& dr = r.deformation;
+  return failure;
+}
+
+/// The verification's problems in one line.
+std::string problem_list(const std::vector<std::string>& problems) {
+  std::string list;
+  for (std::size_t i = 0; i < problems.size(); ++i) list += (i ? "; " : "") + problems[i];
+  return list;
+}
+
+Json fit_counts(const meshfit::Fit_report& r) {
   const meshfit::Partition_report& pr = r.partition;
   const meshfit::Smoothing_report& sr = r.smoothing;
+  Json counts;
+  counts["correspondences"] = r.deformation.user_pairs;
+  add_flip_counts(r.deformation, counts);
+  add_insertion_counts(r.deformation, counts);
+  add_segment_counts(pr, counts);
+  counts.update(Json{{"faces_crossed", pr.faces_crossed},
+                     {"edge_flips", pr.edge_flips},
+                     {"vertices_moved_onto_segments", pr.vertices_moved},
+                     {"regions", pr.regions},
+                     {"smoothing_iterations", sr.iterations},
+                     {"vertices_fixed_in_smoothing", sr.fixed_vertices},
+                     {"angle_flips", r.angle_flips},
+                     {"chain_vertex_moves", r.chain_vertex_moves}});
+  return counts;
+}
 
-  Json js = report_skeleton("fit", failure, stage, failure.empty() ? success : algorithm_failed, figures);
+Json fit_verification(const meshfit::Fit_verification& v, const std::vector<std::string>& problems) {
+  return {{"network_vertices_missing", v.network_vertices_missing},
+          {"segments_not_chains", v.segments_not_chains},
+          {"flips_remaining", v.flips_remaining},
+          {"degenerate_faces", v.degenerate_faces},
+          {"folded_edges", v.folded_edges},
+          {"template_folded_edges", v.template_folded_edges},
+          {"self_intersection_checked", v.self_intersection_checked},
+          {"self_intersects", v.self_intersects},
+          {"template_self_intersects", v.template_self_intersects},
+          {"self_intersecting_pairs", v.self_intersecting_pairs},
+          {"template_self_intersecting_pairs", v.template_self_intersecting_pairs},
+          {"non_finite_coordinates", v.non_finite_coordinates},
+          {"regions", v.regions},
+          {"expected_regions", v.expected_regions_known ? Json(v.expected_regions) : Json(nullptr)},
+          {"problems", problems}};
+}
+
+/// `completed`: the pipeline ran to its end (it may have failed verification all the same).
+Json fit_report(const Command_line& cl, const meshfit::Fit_report& r, const Stage_failure& failure, bool completed,
+                const std::vector<std::string>& problems, double read_seconds, const meshfit::Mesh_data& out) {
+  Json js = report_skeleton("fit", failure.message, failure.stage,
+                            failure.message.empty() ? success : algorithm_failed, failure.figures);
   js["verified"] = completed && problems.empty();
-  js["timings_s"] = {{"read", number(in.read_seconds)}, {"deform", number(r.deform_seconds)},
+  js["timings_s"] = {{"read", number(read_seconds)}, {"deform", number(r.deform_seconds)},
                      {"partition", number(r.partition_seconds)}, {"smooth", number(r.smooth_seconds)},
                      {"verify", number(r.verify_seconds)}, {"total", number(r.total_seconds)}};
-  js["counts"] = {{"correspondences", dr.user_pairs},
-                  {"fine_pairs", dr.fine_pairs},
-                  {"flip_rounds", dr.flip_rounds},
-                  {"flips_found", dr.flips_found},
-                  {"flips_fixed", dr.flips_found - dr.remaining_flips},
-                  {"flips_remaining", dr.remaining_flips},
-                  {"coarse_flipped_faces", dr.coarse_flipped_faces},
-                  {"faces_subdivided", dr.faces_subdivided},
-                  {"vertices_inserted_for_density", dr.vertices_inserted_for_density},
-                  {"vertices_inserted_for_flips", dr.vertices_inserted_for_flips},
-                  {"segments", pr.segments},
-                  {"segments_already_edges", pr.existing_edges},
-                  {"segments_embedded_by_walk", pr.by_walk},
-                  {"segments_embedded_by_fallback", pr.by_fallback},
-                  {"segments_not_embedded", pr.not_embedded.size()},
-                  {"faces_crossed", pr.faces_crossed},
-                  {"edge_flips", pr.edge_flips},
-                  {"vertices_moved_onto_segments", pr.vertices_moved},
-                  {"regions", pr.regions},
-                  {"smoothing_iterations", sr.iterations},
-                  {"vertices_fixed_in_smoothing", sr.fixed_vertices},
-                  {"angle_flips", r.angle_flips},
-                  {"chain_vertex_moves", r.chain_vertex_moves}};
+  js["counts"] = fit_counts(r);
   js["quality"] = {{"template_vertices", r.template_vertices},
                    {"template_faces", r.template_faces},
                    {"vertices", out.points.size()},
                    {"faces", out.triangles.size()},
                    {"minimum_angle_deg", number(completed ? r.minimum_angle_deg : meshfit::minimum_angle_degrees(out))},
-                   {"mean_smoothing_displacement", number(sr.mean_displacement)}};
-  js["details"]["fine_level"] = json_fine_level(dr);
-  js["details"]["verification"] = {
-      {"network_vertices_missing", v.network_vertices_missing},
-      {"segments_not_chains", v.segments_not_chains},
-      {"flips_remaining", v.flips_remaining},
-      {"degenerate_faces", v.degenerate_faces},
-      {"folded_edges", v.folded_edges},
-      {"template_folded_edges", v.template_folded_edges},
-      {"self_intersection_checked", v.self_intersection_checked},
-      {"self_intersects", v.self_intersects},
-      {"template_self_intersects", v.template_self_intersects},
-      {"self_intersecting_pairs", v.self_intersecting_pairs},
-      {"template_self_intersecting_pairs", v.template_self_intersecting_pairs},
-      {"non_finite_coordinates", v.non_finite_coordinates},
-      {"regions", v.regions},
-      {"expected_regions", v.expected_regions_known ? Json(v.expected_regions) : Json(nullptr)},
-      {"problems", problems}};
+                   {"mean_smoothing_displacement", number(r.smoothing.mean_displacement)}};
+  js["details"]["fine_level"] = json_fine_level(r.deformation);
+  js["details"]["verification"] = fit_verification(r.verification, problems);
   if (completed && !problems.empty())
     for (const std::string& p : problems) js["warnings"].push_back("defect kept (--allow-defects): " + p);
-  if (failure.empty()) note_curve_output(cl, out, js);
-  write_report(report_path, js);
-  progress_display.finish();
+  if (failure.message.empty()) note_curve_output(cl, out, js);
+  return js;
+}
 
-  if (!failure.empty()) throw meshfit::Algorithm_failure("fit", failure);
-  if (!problems.empty() && !cl.quiet) {
-    std::string list;
-    for (std::size_t i = 0; i < problems.size(); ++i) list += (i ? "; " : "") + problems[i];
-    std::cerr << "meshfit: fit: warning: defects kept (--allow-defects): " << list << "\n";
-  }
-  if (!cl.quiet)
-    std::cerr << "meshfit: fit: " << pr.segments << " segments (" << pr.by_walk << " by walk, " << pr.by_fallback
-              << " by fallback), " << pr.regions << " regions, " << dr.flips_found << " flips fixed, "
-              << r.total_seconds << " s\n";
+/// fit's lines on stderr after a run that did not fail.
+void print_fit_summary(const meshfit::Fit_report& r, const std::vector<std::string>& problems) {
+  const meshfit::Deformation_report& dr = r.deformation;
+  const meshfit::Partition_report& pr = r.partition;
+  if (!problems.empty())
+    std::cerr << "meshfit: fit: warning: defects kept (--allow-defects): " << problem_list(problems) << "\n";
+  std::cerr << "meshfit: fit: " << pr.segments << " segments (" << pr.by_walk << " by walk, " << pr.by_fallback
+            << " by fallback), " << pr.regions << " regions, " << dr.flips_found << " flips fixed, "
+            << r.total_seconds << " s\n";
+}
+
+int run_fit(const Command_line& cl) {
+  const std::vector<std::string> inputs = fit_input_paths(cl);
+  const std::string report_path = check_outputs(cl, inputs);
+  apply_thread_limit(cl);
+  meshfit::Deform_options d = deform_options(cl);
+  d.progress = progress_printer();
+  const Smooth_options so = smooth_options(cl);
+  Fit_inputs in;
+  read_fit_inputs(cl, in);
+
+  auto curve = in.tm.add_property_map<Mesh::Edge_index, bool>("e:meshfit_curve", false).first;
+  auto region = in.tm.add_property_map<Mesh::Face_index, int>("f:meshfit_region", 0).first;
+  const meshfit::Mesh_data& td = in.template_data;
+  const bool attributes = !vertex_attribute_names(td).empty();
+  Attribute_maps maps = template_attribute_maps(in.tm, td, attributes);
+  meshfit::Fit_report r;
+  Stage_failure failure = fit_inputs(cl, in, d, so, curve, region, attributes ? &maps : nullptr, r);
+  meshfit::Mesh_data out =
+      meshfit::to_mesh_data(in.tm, CGAL::parameters::edge_is_constrained_map(curve).face_patch_map(region));
+  if (attributes && failure.message.empty()) take_fitted_attributes(in.tm, td, maps, out);
+  const std::vector<std::string> problems = r.verification.problems();
+  const bool completed = failure.message.empty();
+  if (completed && !problems.empty() && !cl.allow_defects)
+    failure.message = "the result failed verification: " + problem_list(problems) + " (--allow-defects writes it anyway)";
+
+  write_report(report_path, fit_report(cl, r, failure, completed, problems, in.read_seconds, out));
+  progress_display.finish();
+  if (!failure.message.empty()) throw meshfit::Algorithm_failure("fit", failure.message);
+  if (!cl.quiet) print_fit_summary(r, problems);
   write_output(cl, out, inputs, report_path);
   return success;
 }

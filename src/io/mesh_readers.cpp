@@ -114,134 +114,164 @@ bool obj_statement_ignored(std::string_view k) {
   return false;
 }
 
-Polygon_soup parse_obj_impl(std::string_view text, const std::string& name) {
-  Polygon_soup soup;
-  soup.file = name;
-  soup.one_based = true;
-  Line_reader in(text, name);
-  // Positive indices may refer to vertices defined later; they are range-checked by the mesh
-  // check once all vertices are known, with the line of the face that used them.
-  bool has_regions = false;
-  int region = -1;
-  // Texture coordinates and normals are indexed per corner; meshfit keeps them per vertex when
-  // every corner of each vertex that uses one names the same (`vt`/`vn` index, or equal values).
-  std::vector<std::array<double, 2>> texcoords;
-  std::vector<std::array<double, 3>> normals;
-  std::vector<std::array<double, 4>> colours;  // of the vertices (`v x y z r g b`)
-  std::size_t coloured = 0;
+using Tokens = std::vector<std::string_view>;
+
+// Reads an OBJ file statement by statement into a soup. Positive indices may refer to vertices
+// defined later; they are range-checked by the mesh check once all vertices are known, with the
+// line of the face that used them. Texture coordinates and normals are indexed per corner;
+// meshfit keeps them per vertex when every corner of each vertex that uses one names the same
+// (`vt`/`vn` index, or equal values).
+class Obj_reader {
+ public:
+  Obj_reader(std::string_view text, const std::string& name) : m_name(name), m_in(text, name) {
+    m_soup.file = name;
+    m_soup.one_based = true;
+  }
+
+  Polygon_soup read() {
+    while (m_in.next()) statement(m_in.tokens());
+    if (!m_has_regions) m_soup.polygon_patch.clear();
+    take_colours();
+    per_vertex(m_texcoords, [](const Corner_refs& c) { return c.vt; }, m_soup.vertex_uvs, "texture coordinate");
+    per_vertex(m_normals, [](const Corner_refs& c) { return c.vn; }, m_soup.vertex_normals, "normal");
+    return std::move(m_soup);
+  }
+
+ private:
   struct Corner_refs {
     std::size_t vertex;
     std::int64_t vt, vn;  // 0: none; negative: relative, resolved when read
     std::size_t line;
   };
-  std::vector<Corner_refs> corner_refs;
-  auto attribute_index = [&](std::string_view index, std::size_t count, const char* what) -> std::int64_t {
+
+  void statement(const Tokens& t) {
+    const std::string_view key = t[0];
+    if (key == "v") vertex(t);
+    else if (key == "vt") texture_coordinate(t);
+    else if (key == "vn") normal(t);
+    else if (key == "f") face(t);
+    else if (key == "l") line(t);
+    else if (key == "g") group(t);
+    else if (!obj_statement_ignored(key)) m_in.fail("unknown OBJ statement " + quote(key));
+  }
+
+  void vertex(const Tokens& t) {
+    if (t.size() < 4) m_in.fail("vertex has " + std::to_string(t.size() - 1) + " values; expected x y z");
+    if (t.size() > 7) m_in.fail("vertex has " + std::to_string(t.size() - 1) + " values; expected at most 6");
+    m_soup.points.emplace_back(m_in.to_double(t[1], "x coordinate"),
+                               m_in.to_double(t[2], "y coordinate"),
+                               m_in.to_double(t[3], "z coordinate"));
+    double extra[3] = {0, 0, 0};
+    for (std::size_t k = 4; k < t.size(); ++k) extra[k - 4] = m_in.to_double(t[k], "vertex attribute");
+    if (t.size() == 5) m_soup.drop("vertex weights (v x y z w)");
+    if (t.size() == 7) {
+      m_colours.resize(m_soup.points.size());
+      m_colours.back() = {extra[0], extra[1], extra[2], 1.0};
+      ++m_coloured;
+    }
+  }
+
+  void texture_coordinate(const Tokens& t) {
+    if (t.size() < 2 || t.size() > 4) m_in.fail("expected 'vt u [v [w]]'");
+    m_texcoords.push_back({m_in.to_double(t[1], "texture coordinate u"),
+                           t.size() > 2 ? m_in.to_double(t[2], "texture coordinate v") : 0.0});
+    if (t.size() > 3) m_in.to_double(t[3], "texture coordinate w");
+  }
+
+  void normal(const Tokens& t) {
+    if (t.size() != 4) m_in.fail("expected 'vn x y z'");
+    m_normals.push_back(
+        {m_in.to_double(t[1], "normal x"), m_in.to_double(t[2], "normal y"), m_in.to_double(t[3], "normal z")});
+  }
+
+  void face(const Tokens& t) {
+    for (std::size_t k = 1; k < t.size(); ++k) {
+      m_soup.corners.push_back(resolve(t[k], "vertex index"));
+      // v, v/vt, v//vn or v/vt/vn
+      const std::string_view tok = t[k];
+      const std::size_t s1 = tok.find('/');
+      std::string_view vt, vn;
+      if (s1 != std::string_view::npos) {
+        const std::size_t s2 = tok.find('/', s1 + 1);
+        vt = tok.substr(s1 + 1, s2 == std::string_view::npos ? std::string_view::npos : s2 - s1 - 1);
+        if (s2 != std::string_view::npos) vn = tok.substr(s2 + 1);
+      }
+      m_corner_refs.push_back({m_soup.corners.back(),
+                               attribute_index(vt, m_texcoords.size(), "texture coordinate index"),
+                               attribute_index(vn, m_normals.size(), "normal index"), m_in.line_number()});
+    }
+    m_soup.end_polygon(m_in.line_number());
+    m_soup.polygon_patch.push_back(m_region);
+  }
+
+  void line(const Tokens& t) {
+    if (t.size() < 3) m_in.fail("a line element needs at least two vertices");
+    std::size_t prev = resolve(t[1], "vertex index");
+    for (std::size_t k = 2; k < t.size(); ++k) {
+      const std::size_t cur = resolve(t[k], "vertex index");
+      m_soup.edges.push_back({prev, cur});
+      m_soup.edge_where.push_back(m_in.line_number());
+      prev = cur;
+    }
+  }
+
+  void group(const Tokens& t) {
+    m_region = -1;
+    if (t.size() == 2 && t[1].substr(0, 7) == "region_") {
+      std::uint64_t k = 0;
+      if (parse_unsigned(t[1].substr(7), k) == Number_status::ok && k <= INT32_MAX) {
+        m_region = static_cast<int>(k);
+        m_has_regions = true;
+      }
+    }
+  }
+
+  // A `vt` or `vn` index of a corner, relative ones resolved against the `count` read so far.
+  std::int64_t attribute_index(std::string_view index, std::size_t count, const char* what) const {
     if (index.empty()) return 0;
-    const std::int64_t i = in.to_signed(index, what);
-    if (i == 0) in.fail(std::string(what) + " 0: OBJ indices start at 1");
+    const std::int64_t i = m_in.to_signed(index, what);
+    if (i == 0) m_in.fail(std::string(what) + " 0: OBJ indices start at 1");
     if (i < 0) {
       const std::uint64_t back = static_cast<std::uint64_t>(-(i + 1)) + 1;
-      if (back > count) in.fail(std::string(what) + " " + quote(index) + " refers before the first one");
+      if (back > count) m_in.fail(std::string(what) + " " + quote(index) + " refers before the first one");
       return static_cast<std::int64_t>(count - back) + 1;
     }
     return i;
-  };
+  }
 
-  auto resolve = [&](std::string_view token, const char* what) -> std::size_t {
+  // The vertex a corner or line token names, from 0.
+  std::size_t resolve(std::string_view token, const char* what) const {
     const std::string_view index = token.substr(0, token.find('/'));
-    const std::int64_t i = in.to_signed(index, what);
-    if (i == 0) in.fail(std::string(what) + " 0: OBJ indices start at 1");
+    const std::int64_t i = m_in.to_signed(index, what);
+    if (i == 0) m_in.fail(std::string(what) + " 0: OBJ indices start at 1");
     if (i < 0) {
       const std::uint64_t back = static_cast<std::uint64_t>(-(i + 1)) + 1;
-      if (back > soup.points.size())
-        in.fail(std::string(what) + " " + quote(token) + " refers before the first vertex (" +
-                std::to_string(soup.points.size()) + " vertices so far)");
-      return soup.points.size() - back;
+      if (back > m_soup.points.size())
+        m_in.fail(std::string(what) + " " + quote(token) + " refers before the first vertex (" +
+                  std::to_string(m_soup.points.size()) + " vertices so far)");
+      return m_soup.points.size() - back;
     }
     return static_cast<std::size_t>(i - 1);
-  };
-
-  while (in.next()) {
-    const auto& t = in.tokens();
-    const std::string_view key = t[0];
-    if (key == "v") {
-      if (t.size() < 4) in.fail("vertex has " + std::to_string(t.size() - 1) + " values; expected x y z");
-      if (t.size() > 7) in.fail("vertex has " + std::to_string(t.size() - 1) + " values; expected at most 6");
-      soup.points.emplace_back(in.to_double(t[1], "x coordinate"),
-                               in.to_double(t[2], "y coordinate"),
-                               in.to_double(t[3], "z coordinate"));
-      double extra[3] = {0, 0, 0};
-      for (std::size_t k = 4; k < t.size(); ++k) extra[k - 4] = in.to_double(t[k], "vertex attribute");
-      if (t.size() == 5) soup.drop("vertex weights (v x y z w)");
-      if (t.size() == 7) {
-        colours.resize(soup.points.size());
-        colours.back() = {extra[0], extra[1], extra[2], 1.0};
-        ++coloured;
-      }
-    } else if (key == "vt") {
-      if (t.size() < 2 || t.size() > 4) in.fail("expected 'vt u [v [w]]'");
-      texcoords.push_back({in.to_double(t[1], "texture coordinate u"),
-                           t.size() > 2 ? in.to_double(t[2], "texture coordinate v") : 0.0});
-      if (t.size() > 3) in.to_double(t[3], "texture coordinate w");
-    } else if (key == "vn") {
-      if (t.size() != 4) in.fail("expected 'vn x y z'");
-      normals.push_back({in.to_double(t[1], "normal x"), in.to_double(t[2], "normal y"), in.to_double(t[3], "normal z")});
-    } else if (key == "f") {
-      for (std::size_t k = 1; k < t.size(); ++k) {
-        soup.corners.push_back(resolve(t[k], "vertex index"));
-        // v, v/vt, v//vn or v/vt/vn
-        const std::string_view tok = t[k];
-        const std::size_t s1 = tok.find('/');
-        std::string_view vt, vn;
-        if (s1 != std::string_view::npos) {
-          const std::size_t s2 = tok.find('/', s1 + 1);
-          vt = tok.substr(s1 + 1, s2 == std::string_view::npos ? std::string_view::npos : s2 - s1 - 1);
-          if (s2 != std::string_view::npos) vn = tok.substr(s2 + 1);
-        }
-        corner_refs.push_back({soup.corners.back(), attribute_index(vt, texcoords.size(), "texture coordinate index"),
-                               attribute_index(vn, normals.size(), "normal index"), in.line_number()});
-      }
-      soup.end_polygon(in.line_number());
-      soup.polygon_patch.push_back(region);
-    } else if (key == "l") {
-      if (t.size() < 3) in.fail("a line element needs at least two vertices");
-      std::size_t prev = resolve(t[1], "vertex index");
-      for (std::size_t k = 2; k < t.size(); ++k) {
-        const std::size_t cur = resolve(t[k], "vertex index");
-        soup.edges.push_back({prev, cur});
-        soup.edge_where.push_back(in.line_number());
-        prev = cur;
-      }
-    } else if (key == "g") {
-      region = -1;
-      if (t.size() == 2 && t[1].substr(0, 7) == "region_") {
-        std::uint64_t k = 0;
-        if (parse_unsigned(t[1].substr(7), k) == Number_status::ok && k <= INT32_MAX) {
-          region = static_cast<int>(k);
-          has_regions = true;
-        }
-      }
-    } else if (!obj_statement_ignored(key)) {
-      in.fail("unknown OBJ statement " + quote(key));
-    }
   }
-  if (!has_regions) soup.polygon_patch.clear();
 
-  if (coloured > 0 && coloured == soup.points.size())
-    soup.vertex_colors = std::move(colours);
-  else if (coloured > 0)
-    soup.drop("vertex colours (v x y z r g b), not on every vertex");
+  void take_colours() {
+    if (m_coloured > 0 && m_coloured == m_soup.points.size())
+      m_soup.vertex_colors = std::move(m_colours);
+    else if (m_coloured > 0)
+      m_soup.drop("vertex colours (v x y z r g b), not on every vertex");
+  }
+
   // Per vertex when every corner of a vertex names the same values (a seam gives a vertex two).
-  auto per_vertex = [&](const auto& values, auto index_of, auto& out, const char* what) {
-    using Value = typename std::decay_t<decltype(values)>::value_type;
+  template <typename Value, typename Index_of>
+  void per_vertex(const std::vector<Value>& values, Index_of index_of, std::vector<Value>& out, const char* what) {
     if (values.empty()) return;
-    std::vector<Value> v(soup.points.size());
-    std::vector<char> seen(soup.points.size(), 0);
+    std::vector<Value> v(m_soup.points.size());
+    std::vector<char> seen(m_soup.points.size(), 0);
     bool ok = true;
-    for (const Corner_refs& c : corner_refs) {
+    for (const Corner_refs& c : m_corner_refs) {
       const std::int64_t i = index_of(c);
       if (i > static_cast<std::int64_t>(values.size()))
-        throw Invalid_input(Input_location::at_line(name, c.line),
+        throw Invalid_input(Input_location::at_line(m_name, c.line),
                             std::string(what) + " index " + std::to_string(i) + " refers past the last one (" +
                                 std::to_string(values.size()) + ")");
       if (i == 0 || c.vertex >= v.size()) {
@@ -254,12 +284,22 @@ Polygon_soup parse_obj_impl(std::string_view text, const std::string& name) {
       seen[c.vertex] = 1;
     }
     if (ok) out = std::move(v);
-    else soup.drop(std::string(what) + "s (" + (what[0] == 't' ? "vt" : "vn") + "), not one per vertex");
-  };
-  per_vertex(texcoords, [](const Corner_refs& c) { return c.vt; }, soup.vertex_uvs, "texture coordinate");
-  per_vertex(normals, [](const Corner_refs& c) { return c.vn; }, soup.vertex_normals, "normal");
-  return soup;
-}
+    else m_soup.drop(std::string(what) + "s (" + (what[0] == 't' ? "vt" : "vn") + "), not one per vertex");
+  }
+
+  const std::string& m_name;
+  Line_reader m_in;
+  Polygon_soup m_soup;
+  bool m_has_regions = false;
+  int m_region = -1;
+  std::vector<std::array<double, 2>> m_texcoords;
+  std::vector<std::array<double, 3>> m_normals;
+  std::vector<std::array<double, 4>> m_colours;  // of the vertices (`v x y z r g b`)
+  std::size_t m_coloured = 0;
+  std::vector<Corner_refs> m_corner_refs;
+};
+
+Polygon_soup parse_obj_impl(std::string_view text, const std::string& name) { return Obj_reader(text, name).read(); }
 
 // ---- STL ----------------------------------------------------------------------------------------
 
