@@ -25,6 +25,23 @@ constexpr int cholmod_blas_threads = 1;
 
 using Sparse = Eigen::SparseMatrix<double>;
 
+// A x = rhs for a symmetric positive definite A, by CHOLMOD's supernodal factorisation (its own
+// fill-reducing ordering). `what` names the system in the Numerical_error thrown when the
+// factorisation or the solve fails, or the solution is not finite.
+Eigen::MatrixXd solve_definite(const Sparse& A, const Eigen::MatrixXd& rhs, const char* what) {
+  const internal::Scoped_openblas_threads one_thread(cholmod_blas_threads);
+  Eigen::CholmodSupernodalLLT<Sparse, Eigen::Lower> solver;
+  solver.compute(A);
+  const std::string size = std::to_string(A.rows()) + "×" + std::to_string(A.cols());
+  if (solver.info() != Eigen::Success)
+    throw Numerical_error("displacement: the sparse Cholesky factorisation of the " + size + " " + what + " failed");
+  Eigen::MatrixXd x = solver.solve(rhs);
+  if (solver.info() != Eigen::Success || !x.allFinite())
+    throw Numerical_error("displacement: the sparse solve of the " + size + " " + what +
+                          " failed or gave a non-finite value");
+  return x;
+}
+
 // K = D − A, the symmetric graph Laplacian of the adjacency, and D⁻¹ (0 for an isolated vertex).
 Sparse graph_laplacian(const Vertex_adjacency& adj, Eigen::VectorXd& inverse_degree) {
   const std::size_t n = adj.size();
@@ -133,18 +150,8 @@ std::vector<Vector_3> interpolate_displacements(const Vertex_adjacency& adj, con
     }
   Sparse A(nf, nf);
   A.setFromTriplets(qf.begin(), qf.end());
-  // CHOLMOD's supernodal factorisation (its own fill-reducing ordering): the system is symmetric
-  // positive definite (every part of the mesh has a held vertex).
-  const internal::Scoped_openblas_threads one_thread(cholmod_blas_threads);
-  Eigen::CholmodSupernodalLLT<Sparse, Eigen::Lower> solver;
-  solver.compute(A);
-  if (solver.info() != Eigen::Success)
-    throw Numerical_error("displacement: the sparse Cholesky factorisation of the " + std::to_string(nf) + "×" +
-                          std::to_string(nf) + " system failed");
-  const Eigen::MatrixXd x = solver.solve(rhs);
-  if (solver.info() != Eigen::Success || !x.allFinite())
-    throw Numerical_error("displacement: the sparse solve of the " + std::to_string(nf) + "×" + std::to_string(nf) +
-                          " system failed or gave a non-finite value");
+  // Symmetric positive definite: every part of the mesh has a held vertex.
+  const Eigen::MatrixXd x = solve_definite(A, rhs, "system");
   r.nonzeros = static_cast<std::size_t>(A.nonZeros());
   for (std::size_t i = 0; i < n; ++i)
     if (free_index[i] >= 0) d[i] = Vector_3(x(free_index[i], 0), x(free_index[i], 1), x(free_index[i], 2));
@@ -194,15 +201,7 @@ std::vector<Vector_3> fit_displacements(const Vertex_adjacency& adj, const std::
   Sparse data(N, N);
   data.setFromTriplets(t.begin(), t.end());
   A += data;
-  const internal::Scoped_openblas_threads one_thread(cholmod_blas_threads);
-  Eigen::CholmodSupernodalLLT<Sparse, Eigen::Lower> solver;
-  solver.compute(A);
-  if (solver.info() != Eigen::Success)
-    throw Numerical_error("displacement: the sparse Cholesky factorisation of the " + std::to_string(n) + "×" +
-                          std::to_string(n) + " fitting system failed");
-  const Eigen::MatrixXd x = solver.solve(rhs);
-  if (solver.info() != Eigen::Success || !x.allFinite())
-    throw Numerical_error("displacement: the fitting solve gave a non-finite value");
+  const Eigen::MatrixXd x = solve_definite(A, rhs, "fitting system");
   std::vector<Vector_3> d(n);
   for (std::size_t i = 0; i < n; ++i) {
     const auto ii = static_cast<Eigen::Index>(i);

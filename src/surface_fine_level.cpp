@@ -16,7 +16,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <limits>
 #include <map>
 #include <queue>
@@ -28,31 +27,6 @@
 namespace meshfit {
 namespace internal {
 namespace {
-
-// Each unit normal replaced by the unit mean of its own and its neighbours', `rounds` times.
-// A template's own creases and crumples (CGAL's patch-01 has 42 edges folded past 90 degrees)
-// give neighbouring vertex normals that differ by 90 degrees and more; against such normals a
-// face of a smooth result counts as turned over (on the battery's open-patch-01-saddle-boundary,
-// 1 face, whose neighbours all lie within 1.1 degrees of it). Averaged over a few rings the
-// normals follow the surface's general facing, which is what "turned over" is judged against.
-std::vector<Vector_3> smoothed_normals(const Vertex_adjacency& adjacency, const std::vector<Vector_3>& normals,
-                                       std::size_t rounds) {
-  auto unit = [](const Vector_3& v) {
-    const double l = std::sqrt(v.squared_length());
-    return l > 0 ? v / l : v;
-  };
-  std::vector<Vector_3> now(normals.size()), next(normals.size());
-  std::transform(normals.begin(), normals.end(), now.begin(), unit);
-  for (std::size_t round = 0; round < rounds; ++round) {
-    for (std::size_t i = 0; i < now.size(); ++i) {
-      Vector_3 sum = now[i];
-      for (std::size_t k = adjacency.offsets[i]; k < adjacency.offsets[i + 1]; ++k) sum = sum + now[adjacency.neighbours[k]];
-      next[i] = unit(sum);
-    }
-    now.swap(next);
-  }
-  return now;
-}
 
 class Surface_fine_level {
  public:
@@ -115,12 +89,6 @@ class Surface_fine_level {
   // surface point and its mesh vertex is a tangential motion in step 3, which can fold small
   // faces: the margin that keeps new vertices off edges and corners is small.
   static constexpr double placement_margin = 0.05;
-  // Rounds of neighbour averaging of the coarse surface's normals before they are a reference
-  // (smoothed_normals). On the battery's base cases, 2 and 4 rounds both make
-  // open-patch-01-saddle-boundary clean and open-patch-01-wave-boundary free of faces inverted
-  // against the truth (2 without); 4 also on ico2562-peanut-latlong-dense3 (1 without and with 2)
-  // and leaves 1 on ico2562-peanut-latlong-sparse10 (4 without and with 2).
-  static constexpr std::size_t reference_smoothing_rounds = 4;
   // surface_point and distance of every network vertex; a polyline all of whose points are far
   // from the surface is refused.
   void project_network();
@@ -540,7 +508,6 @@ void Surface_fine_level::embed_segments() {
   // a curve runs through a template vertex; their own normals would not be a reference.
   reference_normal.resize(s.vertex.size());
   for (std::size_t i = 0; i < s.vertex.size(); ++i) reference_normal[i] = s.normal(i);
-  reference_normal = smoothed_normals(s.adjacency(), reference_normal, reference_smoothing_rounds);
 
   // The network as projected, but for the boundary segments, embedded by stage 2's insertion.
   // Two network vertices placed at one point (curves denser than the template's faces there)

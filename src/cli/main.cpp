@@ -4,6 +4,7 @@
 #include <meshfit/deform.h>
 #include <meshfit/exceptions.h>
 #include <meshfit/fit.h>
+#include <meshfit/internal/format_number.h>
 #include <meshfit/internal/vertex_attributes.h>
 #include <meshfit/io.h>
 #include <meshfit/memory_limit.h>
@@ -85,27 +86,26 @@ const Option_spec option_specs[] = {
                                "counts, and each local vertex's index in the output); DIR is created if missing"},
     {"--report", "R.json", "write a JSON report (doc/report.md), also when the run fails; '-' for stdout"},
     {"--merge-tolerance", "X", "curve points closer than X times the network's bounding-box diagonal are one network "
-                               "vertex (default 1e-9)"},
+                               "vertex"},
     {"--quiet", nullptr, "no progress on stderr"},
     {"--threads", "N", "use at most N threads (N >= 1; OpenMP and OpenBLAS); default: every core, or "
                        "OMP_NUM_THREADS / OPENBLAS_NUM_THREADS when set"},
     {"--curves-in-mesh", nullptr, "curve edges inside the output (.ply edge element flagged curve, .obj l lines) "
                                   "instead of OUT.curves.polylines.txt"},
     {"--coarse-only", nullptr, "stop after the coarse level (RBF through the given pairs)"},
-    {"--kernel", "K", "RBF basis: linear (phi(r)=r, default) or cubic (phi(r)=r^3)"},
-    {"--curve-density", "D", "refine (default: every network vertex gets a mesh vertex) or drop (the template keeps "
-                             "its size; network vertices that lose their nearest template vertex are dropped and "
-                             "reported)"},
-    {"--fine-level", "L", "surface (default: embed the curves in the coarse surface, then move them into place with a "
+    {"--kernel", "K", "RBF basis: linear (phi(r)=r) or cubic (phi(r)=r^3)"},
+    {"--curve-density", "D", "refine (every network vertex gets a mesh vertex) or drop (the template keeps its size; "
+                             "network vertices that lose their nearest template vertex are dropped and reported)"},
+    {"--fine-level", "L", "surface (embed the curves in the coarse surface, then move them into place with a "
                           "thin-plate displacement) or thesis (nearest-vertex RBF, subdivision)"},
-    {"--max-rounds", "N", "flip prevention (thesis) or untangling (surface) rounds at most (default 10)"},
+    {"--max-rounds", "N", "flip prevention (thesis) or untangling (surface) rounds at most"},
     {"--max-memory", "SIZE", "refuse (exit 3, with the estimate) work whose largest allocation, a dense RBF "
                              "system or reading an input (10 times its size), would exceed SIZE (2G, 512M; "
                              "default RAM / 8, at most 2G)"},
-    {"--iterations", "N", "smoothing iterations in all (default 100: a fifth mean curvature, the rest Laplacian)"},
+    {"--iterations", "N", "smoothing iterations in all, a fifth mean curvature and the rest Laplacian"},
     {"--mc-iterations", "N", "iterations of the modified mean-curvature flow"},
     {"--laplacian-iterations", "N", "iterations of the modified Laplacian flow"},
-    {"--step", "X", "smoothing step lambda in (0, 1] (default 1)"},
+    {"--step", "X", "smoothing step lambda in (0, 1]"},
     {"--allow-defects", nullptr, "write the result even when the final verification finds defects (segments not "
                                  "embedded, folded or degenerate faces, self-intersections); they are still reported"},
     {"--no-self-intersection-check", nullptr, "skip the final self-intersection test (the slowest check)"},
@@ -154,6 +154,26 @@ const std::vector<Command_spec>& command_specs() {
        {"--correspondences", "--merge-tolerance", "--quiet", "--result", "--result-report"}},
   };
   return specs;
+}
+
+// The library's default of an option, as the help says it (empty: none to say). Read from the
+// library, so that the help cannot disagree with what a run without the option does.
+std::string default_of(const std::string& name) {
+  const meshfit::Deform_options deform;
+  if (name == "--merge-tolerance") return meshfit::internal::format_number(meshfit::default_merge_tolerance);
+  if (name == "--kernel") return meshfit::to_string(deform.rbf_kernel);
+  if (name == "--curve-density") return deform.curve_density == meshfit::Curve_density::drop ? "drop" : "refine";
+  if (name == "--fine-level") return meshfit::to_string(deform.fine_level);
+  if (name == "--max-rounds") return std::to_string(deform.flip_prevention_rounds);
+  if (name == "--iterations") return std::to_string(meshfit::internal::default_smoothing_iterations);
+  if (name == "--step") return meshfit::internal::format_number(meshfit::internal::Flow_settings().step);
+  return "";
+}
+
+// The option's help with its default.
+std::string help_of(const Option_spec& o) {
+  const std::string d = default_of(o.name);
+  return d.empty() ? o.help : std::string(o.help) + " (default " + d + ")";
 }
 
 const Option_spec& option_spec(const std::string& name) {
@@ -243,14 +263,14 @@ class Cli_parser {
     CLI::Option* opt = nullptr;
     const std::string key = std::string(c.name) + " " + name;
     if (!o.value) {
-      opt = sub->add_flag(name, m_flags[key], o.help);
+      opt = sub->add_flag(name, m_flags[key], help_of(o));
     } else if (std::string(name) == "--result") {
       // One value per occurrence (repeat the option), so that reports pair with results.
-      opt = sub->add_option(name, m_results, o.help)->type_name(o.value)->expected(1)->allow_extra_args(false)->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+      opt = sub->add_option(name, m_results, help_of(o))->type_name(o.value)->expected(1)->allow_extra_args(false)->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
     } else if (std::string(name) == "--result-report") {
-      opt = sub->add_option(name, m_result_reports, o.help)->type_name(o.value)->expected(1)->allow_extra_args(false)->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+      opt = sub->add_option(name, m_result_reports, help_of(o))->type_name(o.value)->expected(1)->allow_extra_args(false)->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
     } else {
-      opt = sub->add_option(name, m_holder[key], o.help)->type_name(o.value);
+      opt = sub->add_option(name, m_holder[key], help_of(o))->type_name(o.value);
       opt->multi_option_policy(CLI::MultiOptionPolicy::Throw);
     }
     if (required) opt->required();
@@ -772,18 +792,18 @@ meshfit::Deform_options deform_options(const Command_line& cl) {
   meshfit::Deform_options o;
   if (cl.values.count("--kernel")) {
     const std::string& k = cl.values.at("--kernel");
-    if (k == "cubic") o.rbf_kernel = meshfit::Rbf_kernel::cubic;
-    else if (k != "linear") throw Usage_error{"--kernel must be linear or cubic, not '" + k + "'"};
+    if (k != "linear" && k != "cubic") throw Usage_error{"--kernel must be linear or cubic, not '" + k + "'"};
+    o.rbf_kernel = k == "cubic" ? meshfit::Rbf_kernel::cubic : meshfit::Rbf_kernel::linear;
   }
   if (cl.values.count("--curve-density")) {
     const std::string& d = cl.values.at("--curve-density");
-    if (d == "drop") o.curve_density = meshfit::Curve_density::drop;
-    else if (d != "refine") throw Usage_error{"--curve-density must be refine or drop, not '" + d + "'"};
+    if (d != "refine" && d != "drop") throw Usage_error{"--curve-density must be refine or drop, not '" + d + "'"};
+    o.curve_density = d == "drop" ? meshfit::Curve_density::drop : meshfit::Curve_density::refine;
   }
   if (cl.values.count("--fine-level")) {
     const std::string& f = cl.values.at("--fine-level");
-    if (f == "thesis") o.fine_level = meshfit::Fine_level::thesis;
-    else if (f != "surface") throw Usage_error{"--fine-level must be surface or thesis, not '" + f + "'"};
+    if (f != "surface" && f != "thesis") throw Usage_error{"--fine-level must be surface or thesis, not '" + f + "'"};
+    o.fine_level = f == "thesis" ? meshfit::Fine_level::thesis : meshfit::Fine_level::surface;
   }
   if (cl.values.count("--max-rounds")) {
     const std::string& r = cl.values.at("--max-rounds");
