@@ -1,8 +1,8 @@
 // fit_template_to_curves and the caller's data: property maps kept on Surface_mesh, vertex
 // handles kept on Polyhedron_3, vertex attributes carried to the added vertices, and nothing
 // changed when a stage is cancelled or fails. The oracles are the test's own (the maps' values
-// recorded before the call, the result's connectivity read back from the mesh), not fit's
-// verification.
+// recorded before the call, the result's connectivity read back from the mesh) and the
+// independent fit oracle (bench/battery/fit_oracle.h), not fit's verification.
 #include <meshfit/fit.h>
 #include <meshfit/internal/partition_impl.h>
 #include <meshfit/io.h>
@@ -16,6 +16,7 @@
 #include <boost/property_map/function_property_map.hpp>
 #include <boost/property_map/property_map.hpp>
 
+#include "oracle_helpers.h"
 #include "test_helpers.h"
 
 #include <algorithm>
@@ -154,7 +155,7 @@ TEST_CASE("fit: a Surface_mesh keeps every property map, with its values on the 
   auto region = tm.add_property_map<Mesh::Face_index, int>("f:region", -1).first;
   const meshfit::Fit_report r = meshfit::fit_template_to_curves(
       tm, in.network, in.pairs, meshfit::parameters::default_values().edge_is_constrained_map(curve).face_patch_map(region));
-  CHECK(r.verification.passed());
+  CHECK(meshfit_test::oracle_passes(meshfit_test::check_example_fit(tm)));
   REQUIRE(tm.is_valid(false));
   CHECK(tm.number_of_vertices() == r.vertices);
   CHECK(tm.number_of_faces() == r.faces);
@@ -256,7 +257,7 @@ TEST_CASE("fit: texture coordinates, colours and normals are carried to the adde
   const meshfit::Fit_report r = meshfit::fit_template_to_curves(
       tm, in.network, in.pairs,
       meshfit::parameters::default_values().vertex_texture_map(uv).vertex_color_map(colour).vertex_normal_map(normal));
-  CHECK(r.verification.passed());
+  CHECK(meshfit_test::oracle_passes(meshfit_test::check_example_fit(tm)));
   REQUIRE(tm.number_of_vertices() > nt);
   CHECK(tm.is_valid(false));
   CHECK(!tm.has_garbage());
@@ -320,7 +321,7 @@ TEST_CASE("fit: a Polyhedron keeps its vertex handles, a map keyed by them gets 
 
   const meshfit::Fit_report r = meshfit::fit_template_to_curves(
       tm, in.network, in.pairs, meshfit::parameters::default_values().vertex_texture_map(uv));
-  CHECK(r.verification.passed());
+  CHECK(meshfit_test::oracle_passes(meshfit_test::check_example_fit(tm)));
   REQUIRE(tm.is_valid());
   CHECK(CGAL::is_triangle_mesh(tm));
   CHECK(num_vertices(tm) == r.vertices);
@@ -765,6 +766,19 @@ TEMPLATE_TEST_CASE("stages: a completed partition is written into the caller's m
     return out;
   };
   CHECK(edge_set(got) == edge_set(expected));
+  // And the independent oracle on the result: every segment a chain of edges, all of them curve
+  // edges, 12 regions across them.
+  const fit_oracle::Mesh result = fit_oracle::copy_of(tm);
+  const fit_oracle::Embedding embedded = fit_oracle::embedding(
+      result, fit_oracle::network_of(fit_oracle::read_polylines(d + "/curves.polylines.txt")));
+  CHECK(embedded.missing == 0);
+  CHECK(embedded.not_chained == 0);
+  CHECK(embedded.regions == 12);
+  std::set<std::pair<std::size_t, std::size_t>> chain_edges;
+  for (auto e : result.edges())
+    if (embedded.chain_edge[e.idx()]) chain_edges.insert(ordered(result.vertex(e, 0), result.vertex(e, 1)));
+  const auto curve_edges = edge_set(got);
+  CHECK(std::includes(curve_edges.begin(), curve_edges.end(), chain_edges.begin(), chain_edges.end()));
   if constexpr (std::is_same_v<TriangleMesh, Mesh>) {
     // The caller's vertex map keeps its values on every vertex (none added by partitioning).
     const auto uv = tm.template property_map<V, Point_2>("v:uv").first;
@@ -815,7 +829,7 @@ TEST_CASE("kernels: a Simple_cartesian<double> Surface_mesh goes through every s
   const auto re = meshfit::fit_template_to_curves(epick_fit, in.network, in.pairs, mp::default_values().number_of_iterations(10));
   const auto rs = meshfit::fit_template_to_curves(sc_fit, in.network, in.pairs,
                                                   mp::default_values().number_of_iterations(10).geom_traits(SC()).vertex_texture_map(sc_uv));
-  CHECK(rs.verification.passed());
+  CHECK(meshfit_test::oracle_passes(meshfit_test::check_example_fit(sc_fit)));
   CHECK(rs.vertices == re.vertices);
   CHECK(same(epick_fit, sc_fit));
   // The template's vertices keep their UVs; the added ones get finite values.

@@ -4,9 +4,9 @@
 #include <meshfit/internal/fit_checks.h>
 #include <meshfit/io.h>
 
-#include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Surface_mesh.h>
 
+#include "oracle_helpers.h"
 #include "test_helpers.h"
 
 #include <algorithm>
@@ -36,6 +36,7 @@ Inputs example() {
 
 TEST_CASE("fit: the embedded example is fitted, partitioned into 12 regions and verified", "[fit][example]") {
   Inputs in = example();
+  const Mesh template_mesh = in.tm;
   const std::size_t template_vertices = in.tm.number_of_vertices();
   auto curve = in.tm.add_property_map<Mesh::Edge_index, bool>("e:curve", false).first;
   auto region = in.tm.add_property_map<Mesh::Face_index, int>("f:region", -1).first;
@@ -48,7 +49,13 @@ TEST_CASE("fit: the embedded example is fitted, partitioned into 12 regions and 
       })
           .edge_is_constrained_map(curve)
           .face_patch_map(region));
-  INFO("problems: " << r.verification.problems().size());
+  // The oracle judges the result (every network vertex a vertex, every segment a chain of edges,
+  // 12 regions, no fold, intersection or zero-area face added); the report must say the same.
+  const fit_oracle::Network curves =
+      fit_oracle::network_of(fit_oracle::read_polylines(MESHFIT_EXAMPLE_DATA_DIR "/curves.polylines.txt"));
+  const fit_oracle::Fit_check check = fit_oracle::check_fit(in.tm, template_mesh, curves, 12);
+  INFO(meshfit_test::describe(check));
+  CHECK(check.passed());
   CHECK(r.verification.passed());
   CHECK(stages == std::vector<std::string>{"deform", "partition", "smooth", "fit"});
   CHECK(r.partition.regions == 12);
@@ -59,14 +66,19 @@ TEST_CASE("fit: the embedded example is fitted, partitioned into 12 regions and 
   CHECK(r.faces == in.tm.number_of_faces());
   CHECK(in.tm.number_of_vertices() == r.vertices);
   CHECK(in.tm.number_of_vertices() >= template_vertices);
-  // The maps were filled on the result: 12 region labels, curve edges along every segment.
+  // The maps were filled on the result: 12 region labels, curve edges along every segment (the
+  // oracle's chain edges).
   std::set<int> labels;
   for (auto f : in.tm.faces()) labels.insert(region[f]);
   CHECK(labels.size() == 12);
   CHECK(*labels.begin() == 0);
-  std::size_t curve_edges = 0;
-  for (auto e : in.tm.edges()) curve_edges += curve[e];
+  std::size_t curve_edges = 0, chain_edges_not_curve = 0;
+  for (auto e : in.tm.edges()) {
+    curve_edges += curve[e];
+    chain_edges_not_curve += check.embedding.chain_edge[e.idx()] && !curve[e];
+  }
   CHECK(curve_edges >= in.network.number_of_segments());
+  CHECK(chain_edges_not_curve == 0);
   // Vertex i is template vertex i: the user's pairs sit on their network vertices.
   for (const auto& c : in.pairs)
     CHECK(in.tm.point(Mesh::Vertex_index(static_cast<Mesh::size_type>(c.template_vertex))) ==
@@ -119,19 +131,26 @@ TEST_CASE("fit: pairs that mirror the template fail in stage 1 and leave it unto
 
 namespace {
 
-// Fits and returns the report; the result must pass verification.
+// Fits and returns the report. The result must pass the independent oracle (bench/battery/
+// fit_oracle.h: the curves file read on its own, every network vertex a mesh vertex, every segment
+// a chain of mesh edges, `regions` regions across them, no fold, intersecting pair or zero-area
+// face added to the template's); the report must agree.
 meshfit::Fit_report fit_and_verify(const std::string& template_path, const std::string& curves,
-                                   const std::string& pairs_path) {
+                                   const std::string& pairs_path, long regions) {
   Mesh tm;
   meshfit::read_triangle_mesh(template_path, tm);
+  const Mesh template_mesh = tm;
   const auto network = meshfit::read_curve_network(curves);
   const auto pairs = meshfit::read_correspondences(pairs_path, network);
   const meshfit::Fit_report r = meshfit::fit_template_to_curves(tm, network, pairs);
-  for (const std::string& p : r.verification.problems()) INFO(p);
+  const fit_oracle::Fit_check check =
+      fit_oracle::check_fit(tm, template_mesh, fit_oracle::network_of(fit_oracle::read_polylines(curves)), regions);
+  INFO(meshfit_test::describe(check));
+  CHECK(check.passed());
+  // The report agrees.
   CHECK(r.verification.passed());
   CHECK(r.partition.not_embedded.empty());
-  CHECK(r.verification.segments_not_chains == 0);
-  CHECK(r.verification.folded_edges <= r.verification.template_folded_edges);
+  CHECK(r.partition.regions == std::size_t(check.embedding.regions));
   CHECK(r.faces == tm.number_of_faces());
   return r;
 }
@@ -140,13 +159,14 @@ meshfit::Fit_report fit_and_verify(const std::string& template_path, const std::
 
 TEST_CASE("fit: the same sphere template fitted to a second network (peanut)", "[fit][example]") {
   const std::string d = MESHFIT_EXAMPLE_DATA_DIR;
-  const auto r = fit_and_verify(d + "/template.off", d + "/curves-2.polylines.txt", d + "/pairs-2.txt");
+  const auto r = fit_and_verify(d + "/template.off", d + "/curves-2.polylines.txt", d + "/pairs-2.txt", 16);
   CHECK(r.partition.regions == 16);
 }
 
 TEST_CASE("fit: an open template fitted to a network that includes its boundary", "[fit][example][open]") {
   const std::string d = MESHFIT_EXAMPLE_DATA_DIR;
-  const auto r = fit_and_verify(d + "/sheet/template.off", d + "/sheet/curves.polylines.txt", d + "/sheet/pairs.txt");
+  const auto r =
+      fit_and_verify(d + "/sheet/template.off", d + "/sheet/curves.polylines.txt", d + "/sheet/pairs.txt", 4);
   CHECK(r.partition.regions == 4);
 }
 
@@ -157,11 +177,12 @@ TEST_CASE("fit: an open grid onto a larger saddle: curves leaving the coarse sur
   // surface stays the unit square: the outer parts of the lines lie beyond its border, their
   // nearest points on it. Oracles of this test's own: every segment is a path of mesh edges whose
   // vertices lie on it, the faces fall into 9 regions across those edges, and no face turns over
-  // (the saddle is a height field, every face must keep facing +z).
+  // (the saddle is a height field, every face must keep facing +z); and the shared oracle's.
   Mesh tm;
   meshfit::Mesh_data sheet = meshfit_test::grid(24);
   for (auto& p : sheet.points) p = meshfit::Point_3(p.x() / 24, p.y() / 24, 0);
   meshfit::build_triangle_mesh(sheet, tm);
+  const Mesh template_mesh = tm;
   auto lift = [](double x, double y) { return meshfit::Point_3(x, y, 0.5 * ((x - 0.5) * (x - 0.5) - (y - 0.5) * (y - 0.5))); };
   const std::vector<double> t = {-0.08, 0.05, 0.15, 0.3, 0.5, 0.7, 0.85, 0.95, 1.08};
   std::vector<meshfit::Curve_network::Polyline> lines;
@@ -181,9 +202,12 @@ TEST_CASE("fit: an open grid onto a larger saddle: curves leaving the coarse sur
       pairs.push_back(c);
     }
   auto curve = tm.add_property_map<Mesh::Edge_index, bool>("e:curve", false).first;
-  const meshfit::Fit_report r = meshfit::fit_template_to_curves(tm, network, pairs, CGAL::parameters::edge_is_constrained_map(curve));
-  for (const std::string& p : r.verification.problems()) INFO(p);
-  CHECK(r.verification.passed());
+  meshfit::fit_template_to_curves(tm, network, pairs, CGAL::parameters::edge_is_constrained_map(curve));
+  {
+    const fit_oracle::Fit_check check = fit_oracle::check_fit(tm, template_mesh, fit_oracle::network_of(lines), 9);
+    INFO(meshfit_test::describe(check));
+    CHECK(check.passed());
+  }
   // Chains: from a's vertex, step to the neighbour on segment ab farthest along it (greedy).
   auto vertex_at = [&](const meshfit::Point_3& p) {
     for (auto v : tm.vertices())
@@ -247,7 +271,7 @@ TEST_CASE("fit: an open grid onto a larger saddle: curves leaving the coarse sur
 TEST_CASE("fit: CGAL's elephant fitted to curves from a deformed copy of itself", "[fit][real]") {
   const std::string d = MESHFIT_EXAMPLE_DATA_DIR;
   const auto r = fit_and_verify(MESHFIT_CGAL_DATA_DIR "/elephant.off", d + "/elephant/curves.polylines.txt",
-                                d + "/elephant/pairs.txt");
+                                d + "/elephant/pairs.txt", 6);
   CHECK(r.partition.regions == 6);
   CHECK(r.deformation.remaining_flips == 0);
 }
@@ -309,11 +333,7 @@ TEST_CASE("fit: on CGAL's pig, which intersects itself, intersecting face pairs 
   const std::string d = MESHFIT_EXAMPLE_DATA_DIR;
   Mesh tm;
   meshfit::read_triangle_mesh(MESHFIT_CGAL_DATA_DIR "/pig.off", tm);
-  auto count_pairs = [](const Mesh& m) {
-    std::vector<std::pair<Mesh::Face_index, Mesh::Face_index>> pairs;
-    CGAL::Polygon_mesh_processing::self_intersections(m, std::back_inserter(pairs));
-    return pairs.size();
-  };
+  auto count_pairs = [](const Mesh& m) { return std::size_t(fit_oracle::self_intersections(m)); };
   const std::size_t template_pairs = count_pairs(tm);
   REQUIRE(template_pairs > 0);
   const meshfit::Curve_network network = meshfit::read_curve_network(d + "/pig/curves.polylines.txt");
@@ -442,9 +462,13 @@ TEST_CASE("fit: number_of_iterations counts smoothing iterations, flip_preventio
   // fifth modified mean curvature (1), the rest modified Laplacian (4).
   {
     Inputs in = example();
+    const Mesh template_mesh = in.tm;
     const meshfit::Fit_report r = meshfit::fit_template_to_curves(
         in.tm, in.network, in.pairs, meshfit::parameters::flip_prevention_rounds(3).number_of_iterations(5));
-    CHECK(r.verification.passed());
+    const fit_oracle::Fit_check check =
+        fit_oracle::check_fit(in.tm, template_mesh, meshfit_test::oracle_network(in.network), 12);
+    INFO(meshfit_test::describe(check));
+    CHECK(check.passed());
     CHECK(r.smoothing.mean_curvature_iterations == 1);
     CHECK(r.smoothing.laplacian_iterations == 4);
     CHECK(r.smoothing.iterations == 5);

@@ -1,10 +1,7 @@
 #include <meshfit/deform.h>
 #include <meshfit/fit.h>
-#include <meshfit/internal/fit_checks.h>
-#include <meshfit/internal/subdivide.h>
 #include <meshfit/io.h>
 #include <meshfit/partition.h>
-#include <meshfit/internal/partition_impl.h>
 #include <meshfit/surface_walk.h>
 
 #include <CGAL/Polyhedron_3.h>
@@ -16,10 +13,15 @@
 #include <CGAL/Polygon_mesh_processing/repair.h>
 #include <CGAL/convex_hull_3.h>
 
+#include "oracle_helpers.h"
 #include "test_helpers.h"
 
+#include <array>
 #include <cmath>
+#include <deque>
+#include <map>
 #include <random>
+#include <set>
 
 using Mesh = CGAL::Surface_mesh<meshfit::Point_3>;
 using meshfit::Point_3;
@@ -59,10 +61,18 @@ struct Normals {
   }
 };
 
+// Area-weighted normal of `v`: the sum of its faces' cross products.
+Vector_3 area_normal(const Mesh& tm, V v) {
+  Vector_3 n(0, 0, 0);
+  for (auto f : CGAL::faces_around_target(tm.halfedge(v), tm))
+    if (f != Mesh::null_face()) n = n + fit_oracle::face_normal(tm, f);
+  return n;
+}
+
 Normals vertex_normals(const Mesh& tm) {
   Normals n;
   for (auto v : tm.vertices()) {
-    const Vector_3 a = meshfit::internal::area_normal(tm, tm.points(), v);
+    const Vector_3 a = area_normal(tm, v);
     const double l = std::sqrt(a.squared_length());
     n.at_vertex[v] = l > 0 ? a / l : a;
     n.position[v] = tm.point(v);
@@ -74,7 +84,7 @@ Normals vertex_normals(const Mesh& tm) {
     std::sort(c.begin(), c.end());
     n.faces.insert(c);
   }
-  n.folded_edges = meshfit::internal::folded_and_degenerate(tm, tm.points()).first;
+  n.folded_edges = std::size_t(fit_oracle::folded_edges(tm));
   return n;
 }
 
@@ -114,25 +124,8 @@ void require_valid_and_unflipped(const Mesh& tm, const Normals& before, std::siz
   }
   CHECK(degenerate == 0);
   CHECK(flipped == 0);
-  // No fold added: adjacent faces more than 90 degrees apart (exact).
-  CHECK(meshfit::internal::folded_and_degenerate(tm, tm.points()).first <= before.folded_edges);
-}
-
-// Every segment embedded by the report is a chain of curve edges lying on its segment.
-template <typename ECM>
-std::size_t chains_on_segments(const Mesh& tm, const ECM& ecm, const meshfit::Curve_network& net,
-                               const meshfit::Partition_report& r, double tolerance) {
-  std::size_t n = 0;
-  for (std::size_t s = 0; s < net.number_of_segments(); ++s) {
-    if (r.how[s] == meshfit::Segment_embedding::not_embedded) continue;
-    const V a(static_cast<Mesh::size_type>(r.mesh_vertex_of_network_vertex[net.segments()[s][0]]));
-    const V b(static_cast<Mesh::size_type>(r.mesh_vertex_of_network_vertex[net.segments()[s][1]]));
-    const auto chain = meshfit::segment_edge_chain(tm, tm.points(), ecm, a, b, tolerance);
-    INFO("segment " << s);
-    CHECK(chain.size() >= 2);
-    n += chain.size() >= 2;
-  }
-  return n;
+  // No fold added: adjacent faces more than 90 degrees apart.
+  CHECK(std::size_t(fit_oracle::folded_edges(tm)) <= before.folded_edges);
 }
 
 meshfit::Curve_network network_of(const std::vector<std::vector<Point_3>>& polylines) {
@@ -141,11 +134,15 @@ meshfit::Curve_network network_of(const std::vector<std::vector<Point_3>>& polyl
 
 struct Partitioned {
   meshfit::Partition_report report;
-  std::size_t chains = 0;
+  std::size_t chains = 0;   // segments that are chains of mesh edges (the oracle's)
+  std::size_t regions = 0;  // faces joined across no chain edge (the oracle's)
 };
 
-// Partitions `tm` by `net` and checks every property; returns the report.
-Partitioned partition_and_check(Mesh& tm, const meshfit::Curve_network& net, double chain_tolerance) {
+// Partitions `tm` by `net` and checks every property; returns the report and what the oracle
+// (bench/battery/fit_oracle.h) finds: every network vertex a mesh vertex, which segments are
+// chains of mesh edges on them, the regions across those chains. The chains' edges must be curve
+// edges, and the report must count the oracle's regions when it embedded every segment.
+Partitioned partition_and_check(Mesh& tm, const meshfit::Curve_network& net) {
   const Normals before = vertex_normals(tm);
   const std::size_t nv = tm.number_of_vertices(), nf = tm.number_of_faces();
   auto ecm = tm.add_property_map<Mesh::Edge_index, bool>("e:curve", false).first;
@@ -153,7 +150,15 @@ Partitioned partition_and_check(Mesh& tm, const meshfit::Curve_network& net, dou
   Partitioned out;
   out.report = meshfit::partition_mesh(tm, net, CGAL::parameters::edge_is_constrained_map(ecm).face_patch_map(fpm));
   require_valid_and_unflipped(tm, before, nv, nf);
-  out.chains = chains_on_segments(tm, ecm, net, out.report, chain_tolerance);
+  const fit_oracle::Network oracle_net = meshfit_test::oracle_network(net);
+  const fit_oracle::Embedding embedded = fit_oracle::embedding(tm, oracle_net);
+  CHECK(embedded.missing == 0);
+  out.chains = oracle_net.segments.size() - std::size_t(embedded.not_chained);
+  out.regions = std::size_t(embedded.regions);
+  std::size_t chain_edges_not_curve = 0;
+  for (auto e : tm.edges()) chain_edges_not_curve += embedded.chain_edge[e.idx()] && !ecm[e];
+  CHECK(chain_edges_not_curve == 0);
+  if (out.report.not_embedded.empty()) CHECK(out.report.regions == out.regions);
   // Regions: every face labelled, in [0, regions), and no curve-free edge between two regions.
   for (auto f : tm.faces()) {
     REQUIRE(fpm[f] >= 0);
@@ -250,7 +255,7 @@ TEST_CASE("surface walk: across a fold", "[walk]") {
   CHECK(on_flat);
   // And it is inserted as a chain of edges across the ridge.
   const auto net = network_of({{tm.point(a), tm.point(b)}});
-  const Partitioned p = partition_and_check(tm, net, 1e-12);
+  const Partitioned p = partition_and_check(tm, net);
   CHECK(p.report.not_embedded.empty());
   CHECK(p.chains == 1);
 }
@@ -275,7 +280,7 @@ TEST_CASE("surface walk: stops at the boundary of an open mesh", "[walk]") {
   // The partition then takes the fallback of the thesis's fig. 3.6: the shortest edge path
   // around the corner, moved onto the segment (the corner's vertices move into the gap).
   const auto net = network_of({{Point_3(1, 6, 0), Point_3(6, 2, 0)}});
-  const Partitioned p = partition_and_check(tm, net, 1e-12);
+  const Partitioned p = partition_and_check(tm, net);
   CHECK(p.report.by_fallback == 1);
   CHECK(p.chains == 1);
 }
@@ -296,11 +301,12 @@ TEST_CASE("surface walk: will not cross a constrained edge", "[walk]") {
 TEST_CASE("partition: inserting a segment keeps the face and vertex counts and flips nothing", "[partition]") {
   Mesh tm = jittered_grid(10, 0.25, 7, [](double, double) { return 0.0; });
   const auto net = network_of({{tm.point(grid_vertex(10, 0, 3)), tm.point(grid_vertex(10, 10, 8))}});
-  const Partitioned p = partition_and_check(tm, net, 1e-12);
+  const Partitioned p = partition_and_check(tm, net);
   CHECK(p.report.by_walk == 1);
   CHECK(p.report.not_embedded.empty());
   CHECK(p.report.faces_crossed >= 10);
-  CHECK(p.report.regions == 2);
+  CHECK(p.chains == 1);
+  CHECK(p.regions == 2);
 }
 
 TEST_CASE("partition: a network with a feature point, a closed loop, curves ending on the boundary",
@@ -318,13 +324,13 @@ TEST_CASE("partition: a network with a feature point, a closed loop, curves endi
       {P(12, 4), P(13, 4), P(15, 1)},                      // an existing edge, then a diagonal run
   });
   REQUIRE(net.feature_points().size() == 3);
-  const Partitioned p = partition_and_check(tm, net, 1e-12);
+  const Partitioned p = partition_and_check(tm, net);
   INFO("walk " << p.report.by_walk << " fallback " << p.report.by_fallback << " existing " << p.report.existing_edges);
   CHECK(p.report.not_embedded.empty());
   CHECK(p.chains == net.number_of_segments());
   CHECK(p.report.existing_edges >= 1);
   // Inside the loop, and outside it split by the boundary-to-boundary curve: 3 regions.
-  CHECK(p.report.regions == 3);
+  CHECK(p.regions == 3);
 }
 
 TEST_CASE("partition: three great circles on a sphere make 8 regions", "[partition][sphere]") {
@@ -362,13 +368,13 @@ TEST_CASE("partition: three great circles on a sphere make 8 regions", "[partiti
     }
     edges_before += tm.halfedge(a, b) != Mesh::null_halfedge();
   }
-  const Partitioned p = partition_and_check(tm, net, 1e-12);
+  const Partitioned p = partition_and_check(tm, net);
   INFO("segments that were edges " << edges_before << ", walk " << p.report.by_walk << ", fallback "
                                    << p.report.by_fallback << ", faces crossed " << p.report.faces_crossed);
   CHECK(edges_before < net.number_of_segments());
   CHECK(p.report.not_embedded.empty());
   CHECK(p.chains == 72);
-  CHECK(p.report.regions == 8);
+  CHECK(p.regions == 8);
   CHECK(p.report.by_walk > 0);
 }
 
@@ -406,11 +412,11 @@ TEST_CASE("partition: a loop of the elephant's own vertices splits it in two", "
   for (std::size_t i = 0; i < loop.size(); i += 2) polyline.push_back(loop[i]);
   polyline.push_back(polyline.front());
   const auto net = network_of({polyline});
-  const Partitioned p = partition_and_check(tm, net, 1e-9);
+  const Partitioned p = partition_and_check(tm, net);
   INFO("walk " << p.report.by_walk << " fallback " << p.report.by_fallback << " existing " << p.report.existing_edges);
   CHECK(p.report.not_embedded.empty());
   CHECK(p.chains == net.number_of_segments());
-  CHECK(p.report.regions == 2);
+  CHECK(p.regions == 2);
 }
 #endif
 
@@ -433,7 +439,7 @@ TEST_CASE("partition: random networks on random meshes keep the mesh valid", "[p
       if (pl.size() >= 2) polylines.push_back(pl);
     }
     const auto net = network_of(polylines);
-    const Partitioned p = partition_and_check(tm, net, 1e-12);
+    const Partitioned p = partition_and_check(tm, net);
     CHECK(p.chains + p.report.not_embedded.size() == net.number_of_segments());
     CHECK(p.report.by_walk + p.report.by_fallback + p.report.existing_edges + p.report.not_embedded.size() ==
           net.number_of_segments());
@@ -447,13 +453,13 @@ TEST_CASE("partition: the embedded example after deformation", "[partition][exam
   const auto pairs = meshfit::read_correspondences(MESHFIT_EXAMPLE_DATA_DIR "/pairs.txt", net);
   const auto d = meshfit::deform_template(tm, net, pairs);
   REQUIRE(d.remaining_flips == 0);
-  const Partitioned p = partition_and_check(tm, net, 1e-9);
+  const Partitioned p = partition_and_check(tm, net);
   INFO("walk " << p.report.by_walk << " fallback " << p.report.by_fallback << " existing " << p.report.existing_edges);
   CHECK(p.report.not_embedded.empty());
   CHECK(p.chains == net.number_of_segments());
   // 4 plane sections meeting at 10 feature points: V - E + F = 2 on the sphere gives
   // F = 2 - 210 + 220 = 12 regions.
-  CHECK(p.report.regions == 12);
+  CHECK(p.regions == 12);
 }
 
 TEST_CASE("partition: works on Polyhedron_3", "[partition][generic]") {
@@ -471,6 +477,12 @@ TEST_CASE("partition: works on Polyhedron_3", "[partition][generic]") {
   CHECK(r.regions == 3);  // boundary to boundary, twice
   CHECK(poly.size_of_facets() == 72);
   CHECK(CGAL::is_valid_polygon_mesh(poly));
+  // The oracle on a copy: both segments chains of edges, 3 regions across them.
+  const fit_oracle::Embedding embedded =
+      fit_oracle::embedding(fit_oracle::copy_of(poly), meshfit_test::oracle_network(net));
+  CHECK(embedded.missing == 0);
+  CHECK(embedded.not_chained == 0);
+  CHECK(embedded.regions == 3);
 }
 
 TEST_CASE("partition: a network vertex that is not a mesh vertex is an error naming it", "[partition]") {

@@ -3,48 +3,29 @@
 //   score_fit CASE_DIR OUTPUT_MESH EXIT_STATUS SECONDS STDERR_FILE LABEL
 //
 // Reads the output mesh of `meshfit fit` with CGAL's own reader and checks it against the case's
-// curves, template and ground truth with CGAL alone (no meshfit code): network vertices present,
-// segments embedded as edge chains, regions, faces inverted against the truth, new folded edges,
-// new self-intersections, Hausdorff distance to the truth, angles. Prints one Markdown table row;
-// exit status 0 when the case passes, 1 when it fails, 2 when the scorer itself cannot run.
+// curves, template and ground truth with CGAL alone (no meshfit code; the checks are fit_oracle.h,
+// which the tests share): network vertices present, segments embedded as edge chains, regions,
+// faces inverted against the truth, new folded edges, new self-intersections, Hausdorff distance
+// to the truth, angles. Prints one Markdown table row; exit status 0 when the case passes, 1 when
+// it fails, 2 when the scorer itself cannot run.
 
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Surface_mesh.h>
-#include <CGAL/AABB_face_graph_triangle_primitive.h>
-#include <CGAL/AABB_traits.h>
-#include <CGAL/AABB_tree.h>
-#include <CGAL/Polygon_mesh_processing/self_intersections.h>
+#include "fit_oracle.h"
+
 #include <CGAL/boost/graph/IO/polygon_mesh_io.h>
 
 #include <algorithm>
-#include <array>
-#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
 #include <map>
-#include <set>
-#include <sstream>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
 namespace {
 
-using K = CGAL::Exact_predicates_inexact_constructions_kernel;
-using P = K::Point_3;
-using V3 = K::Vector_3;
-using Mesh = CGAL::Surface_mesh<P>;
-using vd = Mesh::Vertex_index;
-using fd = Mesh::Face_index;
-using hd = Mesh::Halfedge_index;
-using ed = Mesh::Edge_index;
-using Primitive = CGAL::AABB_face_graph_triangle_primitive<Mesh>;
-using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, Primitive>>;
-namespace PMP = CGAL::Polygon_mesh_processing;
-
-constexpr double pi = 3.14159265358979323846;
+using fit_oracle::Mesh;
+using fit_oracle::Tree;
 
 struct Failure : std::runtime_error {
   using std::runtime_error::runtime_error;
@@ -69,96 +50,6 @@ Mesh read_mesh(const std::string& path) {
   if (!CGAL::is_triangle_mesh(m)) throw Failure(path + " is not a triangle mesh");
   return m;
 }
-
-std::vector<std::vector<P>> read_polylines(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw Failure("cannot read " + path);
-  std::vector<std::vector<P>> out;
-  std::string line;
-  while (std::getline(in, line)) {
-    const auto first = line.find_first_not_of(" \t\r");
-    if (first == std::string::npos || line[first] == '#') continue;
-    std::istringstream is(line);
-    size_t n = 0;
-    is >> n;
-    std::vector<P> pl;
-    for (size_t i = 0; i < n; ++i) {
-      double x, y, z;
-      if (!(is >> x >> y >> z)) throw Failure(path + ": short polyline");
-      pl.emplace_back(x, y, z);
-    }
-    out.push_back(pl);
-  }
-  return out;
-}
-
-double diagonal(const CGAL::Bbox_3& b) {
-  return std::sqrt(CGAL::square(b.xmax() - b.xmin()) + CGAL::square(b.ymax() - b.ymin()) +
-                   CGAL::square(b.zmax() - b.zmin()));
-}
-
-// Points merged within `tol` (a uniform grid of cell `tol`, 27 neighbouring cells searched).
-struct Point_index {
-  double cell;
-  std::map<std::array<long long, 3>, std::vector<int>> grid;
-  std::vector<P> pts;
-  explicit Point_index(double c) : cell(c) {}
-  std::array<long long, 3> key(const P& p) const {
-    return {(long long)std::floor(p.x() / cell), (long long)std::floor(p.y() / cell), (long long)std::floor(p.z() / cell)};
-  }
-  int find(const P& p, double tol) const {
-    const auto k = key(p);
-    int best = -1;
-    double bd = tol * tol;
-    for (long long dx = -1; dx <= 1; ++dx)
-      for (long long dy = -1; dy <= 1; ++dy)
-        for (long long dz = -1; dz <= 1; ++dz) {
-          auto it = grid.find({k[0] + dx, k[1] + dy, k[2] + dz});
-          if (it == grid.end()) continue;
-          for (int i : it->second) {
-            const double d = CGAL::squared_distance(pts[i], p);
-            if (d <= bd) { bd = d; best = i; }
-          }
-        }
-    return best;
-  }
-  int insert(const P& p) {
-    pts.push_back(p);
-    grid[key(p)].push_back(int(pts.size()) - 1);
-    return int(pts.size()) - 1;
-  }
-};
-
-V3 face_normal(const Mesh& m, fd f) {
-  const hd h = m.halfedge(f);
-  const P& a = m.point(m.source(h));
-  const P& b = m.point(m.target(h));
-  const P& c = m.point(m.target(m.next(h)));
-  return CGAL::cross_product(b - a, c - a);
-}
-
-long folded_edges(const Mesh& m) {
-  long n = 0;
-  for (ed e : m.edges()) {
-    if (m.is_border(e)) continue;
-    const hd h = m.halfedge(e);
-    if (face_normal(m, m.face(h)) * face_normal(m, m.face(m.opposite(h))) < 0) ++n;
-  }
-  return n;
-}
-
-long self_intersections(const Mesh& m) {
-  std::vector<std::pair<fd, fd>> pairs;
-  PMP::self_intersections(m, std::back_inserter(pairs));
-  return long(pairs.size());
-}
-
-struct Union_find {
-  std::vector<int> p;
-  explicit Union_find(size_t n) : p(n) { for (size_t i = 0; i < n; ++i) p[i] = int(i); }
-  int find(int x) { while (p[x] != x) x = p[x] = p[p[x]]; return x; }
-  void unite(int a, int b) { p[find(a)] = find(b); }
-};
 
 std::string fmt(const char* f, double x) {
   char buf[64];
@@ -225,129 +116,36 @@ int main(int argc, char** argv) {
     }
     const Mesh tmpl = read_mesh(dir + "/template.off");
     const Mesh truth = read_mesh(dir + "/truth.off");
-    const auto curves = read_polylines(dir + "/curves.polylines.txt");
+    const fit_oracle::Network net = fit_oracle::network_of(fit_oracle::read_polylines(dir + "/curves.polylines.txt"));
 
-    // network vertices, merged within 1e-9 x the network's bounding-box diagonal
-    CGAL::Bbox_3 nb;
-    for (auto& pl : curves)
-      for (auto& p : pl) nb += p.bbox();
-    const double ndiag = diagonal(nb);
-    const double tol = 1e-9 * ndiag;
-    Point_index net(std::max(tol, 1e-300));
-    std::set<std::pair<int, int>> segments;
-    for (auto& pl : curves) {
-      int prev = -1;
-      for (auto& p : pl) {
-        int id = net.find(p, tol);
-        if (id < 0) id = net.insert(p);
-        if (prev >= 0 && prev != id) segments.emplace(std::min(prev, id), std::max(prev, id));
-        prev = id;
-      }
-    }
-    // every network vertex at an output vertex
-    Point_index outpts(std::max(tol, 1e-300));
-    for (vd v : out.vertices()) outpts.insert(out.point(v));  // index == vertex index
-    std::vector<int> at(net.pts.size(), -1);
-    long missing = 0;
-    for (size_t i = 0; i < net.pts.size(); ++i) {
-      at[i] = outpts.find(net.pts[i], tol);
-      if (at[i] < 0) ++missing;
-    }
-    // every segment a chain of output edges on the segment, monotone from a to b
-    std::vector<char> cut(out.number_of_edges(), 0);
-    long not_chained = 0;
-    for (auto [ia, ib] : segments) {
-      if (at[ia] < 0 || at[ib] < 0) { ++not_chained; continue; }
-      const P a = net.pts[ia], b = net.pts[ib];
-      const V3 ab = b - a;
-      const double l2 = ab.squared_length(), l = std::sqrt(l2);
-      const double line_tol = 1e-6 * l + 1e-9 * ndiag;
-      vd cur = vd(unsigned(at[ia]));
-      const vd goal = vd(unsigned(at[ib]));
-      double tcur = 0;
-      std::vector<ed> chain;
-      bool ok = true;
-      while (cur != goal) {
-        hd best;
-        double bt = 1e300;
-        for (hd h : CGAL::halfedges_around_source(cur, out)) {
-          const P& w = out.point(out.target(h));
-          const double t = ((w - a) * ab) / l2;
-          if (t <= tcur || t > 1 + 1e-9) continue;
-          if (std::sqrt(CGAL::squared_distance(w, a + t * ab)) > line_tol) continue;
-          if (t < bt) { bt = t; best = h; }
-        }
-        if (bt == 1e300) { ok = false; break; }
-        chain.push_back(out.edge(best));
-        cur = out.target(best);
-        tcur = bt;
-      }
-      if (!ok) { ++not_chained; continue; }
-      for (ed e : chain) cut[e.idx()] = 1;
-    }
-    // regions: faces connected across edges that are not chain edges
-    Union_find uf(out.number_of_faces());
-    for (ed e : out.edges()) {
-      if (out.is_border(e) || cut[e.idx()]) continue;
-      const hd h = out.halfedge(e);
-      uf.unite(int(out.face(h).idx()), int(out.face(out.opposite(h)).idx()));
-    }
-    std::set<int> roots;
-    for (fd f : out.faces()) roots.insert(uf.find(int(f.idx())));
-    const long regions = long(roots.size());
+    // network vertices at output vertices, segments as chains of output edges, regions, zero-area
+    // faces, folds and self-intersections against the template's, angles
+    const fit_oracle::Fit_check check = fit_oracle::check_fit(out, tmpl, net);
+    const long missing = check.embedding.missing, not_chained = check.embedding.not_chained;
+    const long regions = check.embedding.regions, degenerate = check.zero_area_faces;
+    const long new_folds = check.new_folds(), new_si = check.new_self_intersections();
+    const double amin = check.smallest_angle_deg, a5 = check.angle_5th_percentile_deg;
 
     // faces inverted against the truth (normal vs the truth face's normal at the closest point)
     Tree tree(faces(truth).first, faces(truth).second, truth);
     tree.accelerate_distance_queries();
-    long inverted = 0, degenerate = 0;
-    for (fd f : out.faces()) {
-      const V3 n = face_normal(out, f);
-      if (n.squared_length() == 0) { ++degenerate; continue; }
-      const hd h = out.halfedge(f);
-      const P c = CGAL::centroid(out.point(out.source(h)), out.point(out.target(h)), out.point(out.target(out.next(h))));
-      const auto cp = tree.closest_point_and_primitive(c);
-      if (face_normal(truth, cp.second) * n < 0) ++inverted;
-    }
-    // folds and self-intersections, output against template
-    const long folds_out = folded_edges(out), folds_tmpl = folded_edges(tmpl);
-    const long si_out = self_intersections(out), si_tmpl = self_intersections(tmpl);
-    const long new_folds = std::max(0L, folds_out - folds_tmpl), new_si = std::max(0L, si_out - si_tmpl);
+    const long inverted = fit_oracle::faces_inverted_against(out, truth, tree);
 
     // symmetric Hausdorff distance (vertices and face centroids of each against the other)
     CGAL::Bbox_3 tb;
-    for (vd v : truth.vertices()) tb += truth.point(v).bbox();
-    double h1 = 0, h2 = 0;
-    for (vd v : out.vertices()) h1 = std::max(h1, tree.squared_distance(out.point(v)));
-    for (fd f : out.faces()) {
-      const hd h = out.halfedge(f);
-      h1 = std::max(h1, tree.squared_distance(CGAL::centroid(out.point(out.source(h)), out.point(out.target(h)),
-                                                               out.point(out.target(out.next(h))))));
-    }
+    for (auto v : truth.vertices()) tb += truth.point(v).bbox();
     Tree otree(faces(out).first, faces(out).second, out);
     otree.accelerate_distance_queries();
-    for (vd v : truth.vertices()) h2 = std::max(h2, otree.squared_distance(truth.point(v)));
-    const double hausdorff = 100.0 * std::sqrt(std::max(h1, h2)) / diagonal(tb);
+    const fit_oracle::Squared_hausdorff sq = fit_oracle::squared_hausdorff(out, otree, truth, tree);
+    const double h1 = sq.out_to_truth, h2 = sq.truth_to_out;
+    const double hausdorff = 100.0 * std::sqrt(std::max(h1, h2)) / fit_oracle::diagonal(tb);
     if (std::getenv("SCORE_FIT_DETAIL"))
-      std::cerr << "score_fit: " << label << ": output->truth " << 100.0 * std::sqrt(h1) / diagonal(tb)
-                << " %, truth->output " << 100.0 * std::sqrt(h2) / diagonal(tb) << " %, template folds " << folds_tmpl
-                << ", output folds " << folds_out << ", template self-intersections " << si_tmpl << ", output "
-                << si_out << ", zero-area faces " << degenerate << ", output vertices " << out.number_of_vertices()
-                << "\n";
-
-    // angles
-    std::vector<double> angles;
-    for (fd f : out.faces()) {
-      const hd h = out.halfedge(f);
-      const P p[3] = {out.point(out.source(h)), out.point(out.target(h)), out.point(out.target(out.next(h)))};
-      for (int k = 0; k < 3; ++k) {
-        const V3 u = p[(k + 1) % 3] - p[k], w = p[(k + 2) % 3] - p[k];
-        const double lu = std::sqrt(u.squared_length()), lw = std::sqrt(w.squared_length());
-        angles.push_back(lu == 0 || lw == 0 ? 0.0 : std::acos(std::clamp((u * w) / (lu * lw), -1.0, 1.0)) * 180 / pi);
-      }
-    }
-    std::sort(angles.begin(), angles.end());
-    const double amin = angles.empty() ? 0 : angles.front();
-    const double a5 = angles.empty() ? 0 : angles[angles.size() / 20];
+      std::cerr << "score_fit: " << label << ": output->truth " << 100.0 * std::sqrt(h1) / fit_oracle::diagonal(tb)
+                << " %, truth->output " << 100.0 * std::sqrt(h2) / fit_oracle::diagonal(tb) << " %, template folds "
+                << check.template_folded_edges << ", output folds " << check.folded_edges
+                << ", template self-intersections " << check.template_self_intersecting_pairs << ", output "
+                << check.self_intersecting_pairs << ", zero-area faces " << degenerate << ", output vertices "
+                << out.number_of_vertices() << "\n";
 
     std::vector<std::string> why;
     if (missing) why.push_back(std::to_string(missing) + " vertices missing");
