@@ -29,61 +29,52 @@ std::size_t count_self_intersections(const Work_mesh& m) {
   return pairs.size();
 }
 
-}  // namespace
+// With the thesis level and Curve_density::drop no vertex is added for the curves, and each
+// network vertex needs a template vertex of its own for its segments to become mesh edges: with
+// more network vertices than template vertices the fit cannot succeed, which the counts say
+// before a round of closest-point queries over every network vertex does (a 1.7 M-point
+// polyline on a 2 562-vertex template: exit 3 after 65 s).
+void refuse_dropping_density(const Curve_network& network, const Work_mesh& work, const Deform_options& options) {
+  if (options.fine_level != Fine_level::thesis || options.curve_density != Curve_density::drop ||
+      network.number_of_vertices() <= num_vertices(work))
+    return;
+  throw Algorithm_failure("deform",
+                          "the curve density 'drop' gives each network vertex at most a template vertex of its own, "
+                          "and there are " + std::to_string(network.number_of_vertices()) +
+                              " network vertices but only " + std::to_string(num_vertices(work)) +
+                              " template vertices: at least " +
+                              std::to_string(network.number_of_vertices() - num_vertices(work)) +
+                              " would be dropped and their segments could not be made mesh edges; use the "
+                              "curve density 'refine' (the default) or a finer template",
+                          {{"network_vertices", static_cast<double>(network.number_of_vertices())},
+                           {"template_vertices", static_cast<double>(num_vertices(work))}});
+}
 
-void fit_work(const Mesh_data& template_data, const Curve_network& network, const std::vector<Correspondence>& pairs,
-              const Fit_options& options, double unit, Fit_report& report, Work_mesh& work, Mesh_data& result) {
-  build_triangle_mesh(template_data, work);
-  const Progress_callback& progress = options.deform.progress;
-  const std::size_t mc_iterations = options.mean_curvature_iterations, lap_iterations = options.laplacian_iterations;
-  const double step = options.step;
-  const bool check_self_intersections = options.check_self_intersections;
-  const auto wvpm = get(CGAL::vertex_point, work);
-  // What the template had before the stages: the verification counts only what they made (the
-  // template scaled by a power of two, which no predicate sees).
-  const std::size_t template_folded_edges = folded_and_degenerate(work, wvpm).first;
-
-  // With the thesis level and Curve_density::drop no vertex is added for the curves, and each
-  // network vertex needs a template vertex of its own for its segments to become mesh edges: with
-  // more network vertices than template vertices the fit cannot succeed, which the counts say
-  // before a round of closest-point queries over every network vertex does (a 1.7 M-point
-  // polyline on a 2 562-vertex template: exit 3 after 65 s).
-  if (options.deform.fine_level == Fine_level::thesis && options.deform.curve_density == Curve_density::drop &&
-      network.number_of_vertices() > num_vertices(work))
-    throw Algorithm_failure("deform",
-                            "the curve density 'drop' gives each network vertex at most a template vertex of its own, "
-                            "and there are " + std::to_string(network.number_of_vertices()) +
-                                " network vertices but only " + std::to_string(num_vertices(work)) +
-                                " template vertices: at least " +
-                                std::to_string(network.number_of_vertices() - num_vertices(work)) +
-                                " would be dropped and their segments could not be made mesh edges; use the "
-                                "curve density 'refine' (the default) or a finer template",
-                            {{"network_vertices", static_cast<double>(network.number_of_vertices())},
-                             {"template_vertices", static_cast<double>(num_vertices(work))}});
-
-  auto t = std::chrono::steady_clock::now();
-  // The stages work on `work` itself (their public forms would copy it again).
-  report.deformation = deform_template_in_place(work, network, pairs, options.deform);
+// Stage 1 on `work` itself (its public form would copy it again); a result that reverses the
+// orientation or drops network vertices ends the fit.
+void deform_step(Work_mesh& work, const Curve_network& network, const std::vector<Correspondence>& pairs,
+                 const Deform_options& options, Fit_report& report) {
+  const auto t = std::chrono::steady_clock::now();
+  report.deformation = deform_template_in_place(work, network, pairs, options);
   report.deform_seconds = seconds_since(t);
-  if (report.deformation.orientation_reversed)
-    throw Algorithm_failure("deform", orientation_reversal_message(report.deformation.coarse_affine_determinant),
-                            {{"coarse_affine_determinant", report.deformation.coarse_affine_determinant},
-                             {"coarse_flipped_faces", static_cast<double>(report.deformation.coarse_flipped_faces)}});
-  if (!report.deformation.dropped_network_vertices.empty())
-    throw Algorithm_failure("deform", std::to_string(report.deformation.dropped_network_vertices.size()) +
+  const Deformation_report& d = report.deformation;
+  if (d.orientation_reversed)
+    throw Algorithm_failure("deform", orientation_reversal_message(d.coarse_affine_determinant),
+                            {{"coarse_affine_determinant", d.coarse_affine_determinant},
+                             {"coarse_flipped_faces", static_cast<double>(d.coarse_flipped_faces)}});
+  if (!d.dropped_network_vertices.empty())
+    throw Algorithm_failure("deform", std::to_string(d.dropped_network_vertices.size()) +
                                           " network vertices have no mesh vertex of their own, so their segments "
                                           "cannot be made mesh edges",
-                            {{"dropped_network_vertices",
-                              static_cast<double>(report.deformation.dropped_network_vertices.size())}});
+                            {{"dropped_network_vertices", static_cast<double>(d.dropped_network_vertices.size())}});
+}
 
-  t = std::chrono::steady_clock::now();
-  auto curve = get(CGAL::dynamic_edge_property_t<bool>(), work);
-  auto region = get(CGAL::dynamic_face_property_t<std::size_t>(), work);
-  report.partition = partition_work(work, network, progress, curve, nullptr, &region);
-  report.partition_seconds = seconds_since(t);
-  report.mesh_vertex_of_network_vertex = report.partition.mesh_vertex_of_network_vertex;
-
-  t = std::chrono::steady_clock::now();
+// Stage 3 with the curve edges and the network vertices held, then the needles smoothing leaves
+// mended.
+void smooth_step(Work_mesh& work, const Curve_network& network, const Fit_options& options, Work_edge_flags curve,
+                 Fit_report& report) {
+  const auto t = std::chrono::steady_clock::now();
+  const auto wvpm = get(CGAL::vertex_point, work);
   // Network vertices stay where they are even when a segment of theirs is not a chain of edges.
   auto pinned = get(CGAL::dynamic_vertex_property_t<bool>(), work);
   {
@@ -92,11 +83,11 @@ void fit_work(const Mesh_data& template_data, const Curve_network& network, cons
     std::size_t i = 0;
     for (auto w : vertices(work)) put(pinned, w, bool(is_network[i++]));
   }
-  if (mc_iterations + lap_iterations > 0)
-    report.smoothing = smooth_fitted_mesh(work, parameters::mean_curvature_iterations(mc_iterations)
-                                                    .laplacian_iterations(lap_iterations)
-                                                    .step_size(step)
-                                                    .progress(progress)
+  if (options.mean_curvature_iterations + options.laplacian_iterations > 0)
+    report.smoothing = smooth_fitted_mesh(work, parameters::mean_curvature_iterations(options.mean_curvature_iterations)
+                                                    .laplacian_iterations(options.laplacian_iterations)
+                                                    .step_size(options.step)
+                                                    .progress(options.deform.progress)
                                                     .edge_is_constrained_map(curve)
                                                     .vertex_is_constrained_map(pinned));
   // Curve vertices bunched along a segment make needles that smoothing leaves: they are spaced
@@ -107,10 +98,15 @@ void fit_work(const Mesh_data& template_data, const Curve_network& network, cons
   // two free vertices pressed together) go by flipping edges where the surface is nearly flat.
   report.angle_flips = flip_for_angles(work, wvpm, curve, 20 * CGAL_PI / 180);
   report.smooth_seconds = seconds_since(t);
+}
 
-  // Verification.
-  t = std::chrono::steady_clock::now();
-  report_progress(progress, "fit", "verifying the result", 0, 1);
+// The verification (Fit_verification) of the result in `work`, against the template's own folds
+// and, when the result intersects itself, the template's intersections.
+void verify_fit(const Work_mesh& work, const Mesh_data& template_data, const Curve_network& network,
+                Work_edge_flags curve, std::size_t template_folded_edges, bool check_self_intersections,
+                Fit_report& report) {
+  const auto t = std::chrono::steady_clock::now();
+  const auto wvpm = get(CGAL::vertex_point, work);
   Fit_verification& v = report.verification;
   std::vector<Work_mesh::Vertex_index> vertex_of;
   for (auto w : vertices(work)) vertex_of.push_back(w);
@@ -148,6 +144,31 @@ void fit_work(const Mesh_data& template_data, const Curve_network& network, cons
     }
   }
   report.verify_seconds = seconds_since(t);
+}
+
+}  // namespace
+
+void fit_work(const Mesh_data& template_data, const Curve_network& network, const std::vector<Correspondence>& pairs,
+              const Fit_options& options, double unit, Fit_report& report, Work_mesh& work, Mesh_data& result) {
+  build_triangle_mesh(template_data, work);
+  // What the template had before the stages: the verification counts only what they made (the
+  // template scaled by a power of two, which no predicate sees).
+  const std::size_t template_folded_edges = folded_and_degenerate(work, get(CGAL::vertex_point, work)).first;
+  refuse_dropping_density(network, work, options.deform);
+
+  deform_step(work, network, pairs, options.deform, report);
+
+  const auto t = std::chrono::steady_clock::now();
+  auto curve = get(CGAL::dynamic_edge_property_t<bool>(), work);
+  auto region = get(CGAL::dynamic_face_property_t<std::size_t>(), work);
+  report.partition = partition_work(work, network, options.deform.progress, curve, nullptr, &region);
+  report.partition_seconds = seconds_since(t);
+  report.mesh_vertex_of_network_vertex = report.partition.mesh_vertex_of_network_vertex;
+
+  smooth_step(work, network, options, curve, report);
+
+  report_progress(options.deform.progress, "fit", "verifying the result", 0, 1);
+  verify_fit(work, template_data, network, curve, template_folded_edges, options.check_self_intersections, report);
   report.vertices = num_vertices(work);
   report.faces = num_faces(work);
 
