@@ -787,24 +787,26 @@ Json json_quality(const meshfit::Mesh_data& out) {
   return j;
 }
 
+// `option`'s value, one of two spellings `a` and `b`, as the value it names; `value` unchanged
+// when the option is not given.
+template <typename T>
+void set_choice(const Command_line& cl, const char* option, const char* a, T value_a, const char* b, T value_b,
+                T& value) {
+  const auto it = cl.values.find(option);
+  if (it == cl.values.end()) return;
+  if (it->second != a && it->second != b)
+    throw Usage_error{std::string(option) + " must be " + a + " or " + b + ", not '" + it->second + "'"};
+  value = it->second == a ? value_a : value_b;
+}
+
 // Stage 1's options: the library's defaults (meshfit::Deform_options), changed by the command line.
 meshfit::Deform_options deform_options(const Command_line& cl) {
   meshfit::Deform_options o;
-  if (cl.values.count("--kernel")) {
-    const std::string& k = cl.values.at("--kernel");
-    if (k != "linear" && k != "cubic") throw Usage_error{"--kernel must be linear or cubic, not '" + k + "'"};
-    o.rbf_kernel = k == "cubic" ? meshfit::Rbf_kernel::cubic : meshfit::Rbf_kernel::linear;
-  }
-  if (cl.values.count("--curve-density")) {
-    const std::string& d = cl.values.at("--curve-density");
-    if (d != "refine" && d != "drop") throw Usage_error{"--curve-density must be refine or drop, not '" + d + "'"};
-    o.curve_density = d == "drop" ? meshfit::Curve_density::drop : meshfit::Curve_density::refine;
-  }
-  if (cl.values.count("--fine-level")) {
-    const std::string& f = cl.values.at("--fine-level");
-    if (f != "surface" && f != "thesis") throw Usage_error{"--fine-level must be surface or thesis, not '" + f + "'"};
-    o.fine_level = f == "thesis" ? meshfit::Fine_level::thesis : meshfit::Fine_level::surface;
-  }
+  set_choice(cl, "--kernel", "linear", meshfit::Rbf_kernel::linear, "cubic", meshfit::Rbf_kernel::cubic, o.rbf_kernel);
+  set_choice(cl, "--curve-density", "refine", meshfit::Curve_density::refine, "drop", meshfit::Curve_density::drop,
+             o.curve_density);
+  set_choice(cl, "--fine-level", "surface", meshfit::Fine_level::surface, "thesis", meshfit::Fine_level::thesis,
+             o.fine_level);
   if (cl.values.count("--max-rounds")) {
     const std::string& r = cl.values.at("--max-rounds");
     char* end = nullptr;
