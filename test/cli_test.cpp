@@ -4,6 +4,8 @@
 #include "test_helpers.h"
 
 #include <meshfit/curve_network.h>
+#include <meshfit/deform.h>
+#include <meshfit/smooth.h>
 
 #include <nlohmann/json.hpp>
 
@@ -54,6 +56,28 @@ TEST_CASE("cli: every malformed input gives one line with its location and exit 
       CHECK(r.err.find(c.fragment) != std::string::npos);
     }
   }
+}
+
+TEST_CASE("cli: the help gives each option's default as the library has it", "[cli]") {
+  Temp_dir dir;
+  const std::string help = run(dir, "fit --help").out;
+  // The text of "(default X)" at the end of the option's line.
+  auto default_in_help = [&](const std::string& option) {
+    const std::size_t at = help.find("\n  " + option + " ");
+    if (at == std::string::npos) return std::string("no line for ") + option;
+    const std::string line = help.substr(at + 1, help.find('\n', at + 1) - at - 1);
+    const std::size_t open = line.rfind("(default ");
+    if (open == std::string::npos || line.back() != ')') return "no default in: " + line;
+    return line.substr(open + 9, line.size() - open - 10);
+  };
+  const meshfit::Deform_options d;
+  CHECK(default_in_help("--kernel") == meshfit::to_string(d.rbf_kernel));
+  CHECK(default_in_help("--fine-level") == meshfit::to_string(d.fine_level));
+  CHECK(default_in_help("--curve-density") == (d.curve_density == meshfit::Curve_density::refine ? "refine" : "drop"));
+  CHECK(default_in_help("--max-rounds") == std::to_string(d.flip_prevention_rounds));
+  CHECK(default_in_help("--iterations") == std::to_string(meshfit::internal::default_smoothing_iterations));
+  CHECK(std::stod(default_in_help("--merge-tolerance")) == meshfit::default_merge_tolerance);
+  CHECK(std::stod(default_in_help("--step")) == meshfit::internal::Flow_settings().step);
 }
 
 TEST_CASE("cli: usage errors exit with status 2", "[cli]") {
