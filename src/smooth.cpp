@@ -76,6 +76,41 @@ inline void store(double* p, std::size_t i, V3 v) {
   p[3 * i + 2] = v.z;
 }
 
+/// Half-edges a → b (opposite corner k of face f, numbered 3·f + k), listed by their source vertex
+/// in compressed rows; the twin b → a is found in b's short list. Linear time: sorting the 3·nf
+/// half-edges instead cost as much as five smoothing iterations.
+struct Outgoing_half_edges {
+  static constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
+  std::vector<std::uint32_t> start, target, half;
+
+  Outgoing_half_edges(const Smoothing_arrays& m, std::size_t n) : start(n + 1, 0) {
+    const std::size_t nf = m.triangles.size();
+    for (const auto& t : m.triangles)
+      for (std::uint32_t v : t) ++start[v + 1];
+    std::partial_sum(start.begin(), start.end(), start.begin());
+    target.resize(3 * nf);
+    half.resize(3 * nf);
+    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+    for (std::size_t f = 0; f < nf; ++f)
+      for (std::size_t k = 0; k < 3; ++k) {
+        const std::uint32_t a = m.triangles[f][(k + 1) % 3], b = m.triangles[f][(k + 2) % 3];
+        target[fill[a]] = b;
+        half[fill[a]++] = std::uint32_t(3 * f + k);
+      }
+  }
+
+  /// The half-edge b → a, or `none`.
+  std::uint32_t twin(std::uint32_t a, std::uint32_t b) const {
+    std::uint32_t found = none, count = 0;
+    for (std::uint32_t j = start[b]; j < start[b + 1]; ++j)
+      if (target[j] == a) {
+        found = half[j];
+        ++count;
+      }
+    return count == 1 ? found : none;  // more than one: a non-manifold edge, no neighbour
+  }
+};
+
 /// Connectivity in compressed rows, built once per flow.
 struct Topology {
   std::size_t n = 0, nf = 0;
@@ -88,46 +123,35 @@ struct Topology {
   double mean_edge = 0;
 
   Topology(const Smoothing_arrays& m) : n(m.fixed.size()), nf(m.triangles.size()) {
-    // Half-edges a → b (opposite corner k of face f), listed by their source vertex; the twin
-    // b → a is found in b's short list. Linear time: sorting the 3·nf half-edges instead cost
-    // as much as five smoothing iterations.
-    std::vector<std::uint32_t> out_start(n + 1, 0);
-    for (const auto& t : m.triangles)
-      for (std::uint32_t v : t) ++out_start[v + 1];
-    std::partial_sum(out_start.begin(), out_start.end(), out_start.begin());
-    std::vector<std::uint32_t> out_target(3 * nf), out_half(3 * nf), fill(out_start.begin(), out_start.end() - 1);
-    for (std::size_t f = 0; f < nf; ++f)
-      for (std::size_t k = 0; k < 3; ++k) {
-        const std::uint32_t a = m.triangles[f][(k + 1) % 3], b = m.triangles[f][(k + 2) % 3];
-        out_target[fill[a]] = b;
-        out_half[fill[a]++] = std::uint32_t(3 * f + k);
-      }
-    std::vector<std::array<std::uint32_t, 2>> constrained = m.constrained_edges;
+    const Outgoing_half_edges out(m, n);
+    number_edges(out, m.constrained_edges);
+    build_neighbour_rows();
+    build_incident_face_rows(m);
+    double sum = 0;
+    for (const auto& e : edge_vertices) sum += std::sqrt(dot(load(m.points.data(), e[0]) - load(m.points.data(), e[1]),
+                                                             load(m.points.data(), e[0]) - load(m.points.data(), e[1])));
+    mean_edge = edge_vertices.empty() ? 0 : sum / double(edge_vertices.size());
+  }
+
+ private:
+  // Numbers the edges (edge_vertices) and gives each face its edges and its neighbours across
+  // them (face_edge, face_nbr, face_adj).
+  void number_edges(const Outgoing_half_edges& out, std::vector<std::array<std::uint32_t, 2>> constrained) {
     for (auto& e : constrained)
       if (e[0] > e[1]) std::swap(e[0], e[1]);
     std::sort(constrained.begin(), constrained.end());
     face_edge.assign(nf, {0, 0, 0});
     face_adj.assign(nf, {no_face, no_face, no_face});
     face_nbr.assign(nf, {no_face, no_face, no_face});
-    constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
-    auto twin_of = [&](std::uint32_t a, std::uint32_t b) {
-      std::uint32_t twin = none, count = 0;
-      for (std::uint32_t j = out_start[b]; j < out_start[b + 1]; ++j)
-        if (out_target[j] == a) {
-          twin = out_half[j];
-          ++count;
-        }
-      return count == 1 ? twin : none;  // more than one: a non-manifold edge, no neighbour
-    };
     for (std::uint32_t a = 0; a < n; ++a)
-      for (std::uint32_t j = out_start[a]; j < out_start[a + 1]; ++j) {
-        const std::uint32_t b = out_target[j], h = out_half[j];
-        const std::uint32_t twin = twin_of(a, b);
-        if (twin != none && a > b) continue;  // the twin's owner numbers the edge
+      for (std::uint32_t j = out.start[a]; j < out.start[a + 1]; ++j) {
+        const std::uint32_t b = out.target[j], h = out.half[j];
+        const std::uint32_t twin = out.twin(a, b);
+        if (twin != Outgoing_half_edges::none && a > b) continue;  // the twin's owner numbers the edge
         const std::uint32_t e = std::uint32_t(edge_vertices.size());
         edge_vertices.push_back({std::min(a, b), std::max(a, b)});
         face_edge[h / 3][h % 3] = e;
-        if (twin == none) continue;
+        if (twin == Outgoing_half_edges::none) continue;
         face_edge[twin / 3][twin % 3] = e;
         face_nbr[h / 3][h % 3] = twin / 3;
         face_nbr[twin / 3][twin % 3] = h / 3;
@@ -139,6 +163,10 @@ struct Topology {
         face_adj[h / 3][h % 3] = twin / 3;
         face_adj[twin / 3][twin % 3] = h / 3;
       }
+  }
+
+  // Vertex → neighbour and edge rows (nbr_start, nbr, nbr_edge), from edge_vertices.
+  void build_neighbour_rows() {
     nbr_start.assign(n + 1, 0);
     for (const auto& e : edge_vertices) {
       ++nbr_start[e[0] + 1];
@@ -147,7 +175,7 @@ struct Topology {
     std::partial_sum(nbr_start.begin(), nbr_start.end(), nbr_start.begin());
     nbr.resize(nbr_start[n]);
     nbr_edge.resize(nbr_start[n]);
-    fill.assign(nbr_start.begin(), nbr_start.end() - 1);
+    std::vector<std::uint32_t> fill(nbr_start.begin(), nbr_start.end() - 1);
     for (std::size_t e = 0; e < edge_vertices.size(); ++e) {
       const auto [a, b] = edge_vertices[e];
       nbr[fill[a]] = b;
@@ -155,18 +183,18 @@ struct Topology {
       nbr[fill[b]] = a;
       nbr_edge[fill[b]++] = std::uint32_t(e);
     }
+  }
+
+  // Vertex → incident face rows (vf_start, vf).
+  void build_incident_face_rows(const Smoothing_arrays& m) {
     vf_start.assign(n + 1, 0);
     for (const auto& t : m.triangles)
       for (std::uint32_t v : t) ++vf_start[v + 1];
     std::partial_sum(vf_start.begin(), vf_start.end(), vf_start.begin());
     vf.resize(vf_start[n]);
-    fill.assign(vf_start.begin(), vf_start.end() - 1);
+    std::vector<std::uint32_t> fill(vf_start.begin(), vf_start.end() - 1);
     for (std::size_t f = 0; f < nf; ++f)
       for (std::uint32_t v : m.triangles[f]) vf[fill[v]++] = std::uint32_t(f);
-    double sum = 0;
-    for (const auto& e : edge_vertices) sum += std::sqrt(dot(load(m.points.data(), e[0]) - load(m.points.data(), e[1]),
-                                                             load(m.points.data(), e[0]) - load(m.points.data(), e[1])));
-    mean_edge = edge_vertices.empty() ? 0 : sum / double(edge_vertices.size());
   }
 };
 

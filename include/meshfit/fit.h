@@ -19,8 +19,6 @@
 #include <meshfit/partition.h>
 #include <meshfit/smooth.h>
 
-#include <CGAL/Polygon_mesh_processing/compute_normal.h>
-
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -124,6 +122,39 @@ struct Fit_options {
   double step = Flow_settings().step;                                   ///< step_size
   bool check_self_intersections = true;                                 ///< check_self_intersections
 };
+
+/// fit_template_to_curves's named parameters, every one read (and checked) before any work:
+/// stage 1's (all but coarse_only: fit runs every stage; the progress callback, which may return
+/// void or bool, as one returning bool), smoothing's as smooth_fitted_mesh counts them, the
+/// verification's.
+/// \throws Invalid_input for a negative count.
+template <typename NamedParameters>
+Fit_options fit_options(const NamedParameters& np) {
+  using CGAL::parameters::choose_parameter;
+  using CGAL::parameters::get_parameter;
+  Fit_options options;
+  options.deform = deform_options(np);
+  options.deform.coarse_only = false;
+  const auto phases = smoothing_phases(np);
+  options.mean_curvature_iterations = phases.mean_curvature;
+  options.laplacian_iterations = phases.laplacian;
+  options.step = choose_parameter(get_parameter(np, meshfit::internal_np::step_size), options.step);
+  options.check_self_intersections = choose_parameter(get_parameter(np, meshfit::internal_np::check_self_intersections),
+                                                      options.check_self_intersections);
+  return options;
+}
+
+/// The named parameters of the CGAL functions fit_template_to_curves calls on `tm` itself
+/// (geometric normals of added vertices): `vpm`, and the caller's geom_traits when `np` gives
+/// them; the stages and the verification compute on meshfit's copy in meshfit's kernel.
+template <typename VPM, typename NamedParameters>
+auto caller_mesh_parameters(const VPM& vpm, const NamedParameters& np) {
+  const auto gt = CGAL::parameters::get_parameter(np, CGAL::internal_np::geom_traits);
+  if constexpr (is_given_v<decltype(gt)>)
+    return CGAL::parameters::vertex_point_map(vpm).geom_traits(gt);
+  else
+    return CGAL::parameters::vertex_point_map(vpm);
+}
 
 /// Stages 1-3 and the verification (compiled once, src/fit.cpp) on `work`, built from
 /// `template_data` (the template scaled to a unit-sized box), against `network` scaled by `unit`.
@@ -338,35 +369,11 @@ template <typename TriangleMesh, typename NamedParameters = CGAL::parameters::De
 Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& input_network,
                                   const std::vector<Correspondence>& pairs,
                                   const NamedParameters& np = CGAL::parameters::default_values()) {
-  using CGAL::parameters::choose_parameter;
-  using CGAL::parameters::get_parameter;
-  using GT = boost::graph_traits<TriangleMesh>;
   const auto t0 = std::chrono::steady_clock::now();
-
-  // Every parameter, read (and checked) before any work: stage 1's (all but coarse_only: fit runs
-  // every stage; the progress callback, which may return void or bool, as one returning bool),
-  // smoothing's as smooth_fitted_mesh counts them, the verification's.
-  internal::Fit_options options;
-  options.deform = deform_options(np);
-  options.deform.coarse_only = false;
-  const auto phases = internal::smoothing_phases(np);
-  options.mean_curvature_iterations = phases.mean_curvature;
-  options.laplacian_iterations = phases.laplacian;
-  options.step = choose_parameter(get_parameter(np, internal_np::step_size), options.step);
-  options.check_self_intersections =
-      choose_parameter(get_parameter(np, internal_np::check_self_intersections), options.check_self_intersections);
+  const internal::Fit_options options = internal::fit_options(np);
   const Scoped_number_of_threads threads(internal::threads_of(np, "fit"));
   const auto vpm = internal::vertex_point_map_of(tm, np);
-  // CGAL's functions called on `tm` itself (geometric normals of added vertices) get the caller's
-  // geom_traits when given; the stages and the verification compute on meshfit's copy in
-  // meshfit's kernel.
-  const auto tm_np = [&] {
-    const auto gt = get_parameter(np, CGAL::internal_np::geom_traits);
-    if constexpr (internal::is_given_v<decltype(gt)>)
-      return CGAL::parameters::vertex_point_map(vpm).geom_traits(gt);
-    else
-      return CGAL::parameters::vertex_point_map(vpm);
-  }();
+  const auto tm_np = internal::caller_mesh_parameters(vpm, np);
 
   Fit_report report;
   report.template_vertices = num_vertices(tm);
@@ -393,40 +400,12 @@ Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& input_n
 
   // The added vertices' attributes, computed before `tm` changes (a solve that throws leaves it
   // as it was); see internal/vertex_attributes.h.
-  const auto texture_map = get_parameter(np, CGAL::internal_np::vertex_texture_map);
-  const auto normal_map = get_parameter(np, CGAL::internal_np::vertex_normal_map);
-  const auto color_map = get_parameter(np, CGAL::internal_np::vertex_color_map);
-  const std::vector<typename GT::vertex_descriptor> template_vertices(vertices(tm).begin(), vertices(tm).end());
-  const std::size_t nt = template_vertices.size();
-  const Vertex_adjacency adjacency = internal::is_given(texture_map) || internal::is_given(normal_map) ||
-                                             internal::is_given(color_map)
-                                         ? internal::adjacency_of(result)
-                                         : Vertex_adjacency();
-  const auto uvs = internal::extended_attribute<internal::Texture_channels>(texture_map, template_vertices, adjacency);
-  auto normals = internal::extended_attribute<internal::Normal_channels>(normal_map, template_vertices, adjacency);
-  const auto colors = internal::extended_attribute<internal::Color_channels>(color_map, template_vertices, adjacency);
-  // Normalised; a normal that the mean cancels out is taken from the result's geometry below.
-  std::vector<bool> geometric_normal(normals.size(), false);
-  for (std::size_t k = nt; k < normals.size(); ++k) {
-    const double len = std::sqrt(normals[k][0] * normals[k][0] + normals[k][1] * normals[k][1] + normals[k][2] * normals[k][2]);
-    if (len > 1e-9)
-      for (double& c : normals[k]) c /= len;
-    else
-      geometric_normal[k] = true;
-  }
+  auto attributes = internal::carried_attributes(np);
+  attributes.extend(tm, result);
 
   const internal::Committed_elements<TriangleMesh> committed = internal::commit_work(work, result, tm, vpm);
   internal::put_patches_and_curves(result, tm, committed.vertex_of, committed.face_of, np);
-  internal::put_extended_attribute<internal::Texture_channels>(texture_map, committed.vertex_of, nt, uvs);
-  internal::put_extended_attribute<internal::Color_channels>(color_map, committed.vertex_of, nt, colors);
-  if constexpr (internal::is_given_v<decltype(normal_map)>) {
-    for (std::size_t k = nt; k < normals.size(); ++k)
-      if (geometric_normal[k]) {
-        const auto n = CGAL::Polygon_mesh_processing::compute_vertex_normal(committed.vertex_of[k], tm, tm_np);
-        normals[k] = {double(n.x()), double(n.y()), double(n.z())};
-      }
-    internal::put_extended_attribute<internal::Normal_channels>(normal_map, committed.vertex_of, nt, normals);
-  }
+  attributes.write(tm, committed.vertex_of, tm_np);
   report.total_seconds = internal::seconds_since(t0);
   return report;
 }

@@ -78,128 +78,205 @@ inline std::array<std::size_t, 3> triangle_key(std::array<std::size_t, 3> t) {
   return t;
 }
 
+/// The steps of commit_surface_mesh, in the order it takes them: everything up to
+/// take_elements() is computed before `tm` changes.
+template <typename WorkPoint, typename Point>
+class Surface_mesh_commit {
+  using Work = CGAL::Surface_mesh<WorkPoint>;
+  using Mesh = CGAL::Surface_mesh<Point>;
+  using V = typename Mesh::Vertex_index;
+  using H = typename Mesh::Halfedge_index;
+  using E = typename Mesh::Edge_index;
+  using F = typename Mesh::Face_index;
+  static constexpr std::size_t none = SIZE_MAX;
+
+ public:
+  /// Numbers the vertices of `tm` and of `work` (template vertex i is result vertex i).
+  /// \throws Invalid_input when the result (`number_of_points` points) does not extend the template.
+  Surface_mesh_commit(const Work& work, Mesh& tm, std::size_t number_of_points)
+      : m_work(work),
+        m_tm(tm),
+        m_template_vertex(tm.vertices().begin(), tm.vertices().end()),
+        m_nt(m_template_vertex.size()),
+        m_tindex(tm.num_vertices(), none),
+        m_windex(work.num_vertices(), none),
+        m_base(work.num_edges(), H()),
+        m_edge_kept(tm.num_edges(), 0),
+        m_face_kept(tm.num_faces(), 0),
+        m_face_of_work(work.num_faces(), F()) {
+    for (std::size_t i = 0; i < m_nt; ++i) m_tindex[m_template_vertex[i]] = i;
+    for (auto w : work.vertices()) m_windex[w] = m_nw++;
+    if (m_nw != number_of_points || m_nw < m_nt) throw Invalid_input("fit: the result does not extend the template");
+  }
+
+  /// Template edges by their vertices.
+  std::unordered_map<std::uint64_t, E> template_edges() const {
+    std::unordered_map<std::uint64_t, E> template_edge;
+    template_edge.reserve(m_tm.number_of_edges());
+    for (E e : m_tm.edges())
+      template_edge.emplace(edge_key(m_tindex[m_tm.source(m_tm.halfedge(e))], m_tindex[m_tm.target(m_tm.halfedge(e))]),
+                            e);
+    return template_edge;
+  }
+
+  /// Template faces by their vertices.
+  std::unordered_map<std::array<std::size_t, 3>, F, Triangle_key_hash> template_faces() const {
+    std::unordered_map<std::array<std::size_t, 3>, F, Triangle_key_hash> template_face;
+    template_face.reserve(m_tm.number_of_faces());
+    for (F f : m_tm.faces()) {
+      const H h = m_tm.halfedge(f);
+      if (m_tm.next(m_tm.next(m_tm.next(h))) != h) continue;  // not a triangle: no result face matches it
+      template_face.emplace(triangle_key({m_tindex[m_tm.target(m_tm.prev(h))], m_tindex[m_tm.target(h)],
+                                          m_tindex[m_tm.target(m_tm.next(h))]}),
+                            f);
+    }
+    return template_face;
+  }
+
+  /// Each edge of `work` joining two template vertices that an edge of the template joins stands
+  /// for that edge, its halfedge(e) for the template's halfedge in the same direction.
+  void match_edges(const std::unordered_map<std::uint64_t, E>& template_edge) {
+    for (auto e : m_work.edges()) {
+      const auto h = m_work.halfedge(e);
+      const std::size_t s = m_windex[m_work.source(h)], t = m_windex[m_work.target(h)];
+      if (s >= m_nt || t >= m_nt) {
+        m_unmatched_edges.push_back(e);
+        continue;
+      }
+      const auto it = template_edge.find(edge_key(s, t));
+      if (it == template_edge.end()) {
+        m_unmatched_edges.push_back(e);
+        continue;
+      }
+      const H th = m_tm.halfedge(it->second);
+      m_base[e] = m_tindex[m_tm.target(th)] == t ? th : m_tm.opposite(th);
+      m_edge_kept[it->second] = 1;
+    }
+  }
+
+  /// Each face of `work` with the same three template vertices as a face of the template, in the
+  /// same order, stands for that face.
+  void match_faces(const std::unordered_map<std::array<std::size_t, 3>, F, Triangle_key_hash>& template_face) {
+    for (auto f : m_work.faces()) {
+      const auto h = m_work.halfedge(f);
+      const std::array<std::size_t, 3> c{m_windex[m_work.target(m_work.prev(h))], m_windex[m_work.target(h)],
+                                         m_windex[m_work.target(m_work.next(h))]};
+      const auto it =
+          c[0] < m_nt && c[1] < m_nt && c[2] < m_nt ? template_face.find(triangle_key(c)) : template_face.end();
+      if (it == template_face.end()) {
+        m_unmatched_faces.push_back(f);
+        continue;
+      }
+      m_face_of_work[f] = it->second;
+      m_face_kept[it->second] = 1;
+    }
+  }
+
+  /// The elements of `tm` for the result's unmatched edges and faces and its added vertices.
+  void take_elements() {
+    // The elements of the template that no result element matches go to the free lists; the
+    // result's other edges and faces take them back (add_edge and add_face reset their property
+    // values to the defaults) or are appended. Vertices are appended, never recycled: the
+    // template's vertices come first in vertices(tm).
+    const bool recycle = m_tm.does_recycle_garbage();
+    m_had_garbage = m_tm.has_garbage();
+    for (E e : std::vector<E>(m_tm.edges().begin(), m_tm.edges().end()))
+      if (!m_edge_kept[e]) m_tm.remove_edge(e);
+    for (F f : std::vector<F>(m_tm.faces().begin(), m_tm.faces().end()))
+      if (!m_face_kept[f]) m_tm.remove_face(f);
+    m_tm.set_recycle_garbage(true);
+    for (E e : m_unmatched_edges) m_base[e] = m_tm.add_edge();
+    for (F f : m_unmatched_faces) m_face_of_work[f] = m_tm.add_face();
+    m_tm.set_recycle_garbage(false);
+    m_out.vertex_of = m_template_vertex;
+    m_out.vertex_of.reserve(m_nw);
+    for (std::size_t k = m_nt; k < m_nw; ++k) m_out.vertex_of.push_back(m_tm.add_vertex());
+    m_tm.set_recycle_garbage(recycle);
+  }
+
+  /// The connectivity of `work` written into those elements.
+  void write_halfedges() {
+    for (H h : m_work.halfedges()) {
+      const H th = halfedge_of(h);
+      m_tm.set_target(th, vertex_of(m_work.target(h)));
+      m_tm.set_face(th, m_work.face(h) == m_work.null_face() ? m_tm.null_face() : m_face_of_work[m_work.face(h)]);
+      m_tm.set_next(th, halfedge_of(m_work.next(h)));
+    }
+  }
+
+  /// The vertices' halfedges, and `points[k]`, the position of the result's vertex k, written
+  /// through `vpm`.
+  template <typename VPM>
+  void write_vertices(const std::vector<Point_3>& points, const VPM& vpm) {
+    using P = typename boost::property_traits<VPM>::value_type;
+    for (V w : m_work.vertices()) {
+      const H h = m_work.halfedge(w);
+      m_tm.set_halfedge(vertex_of(w), h == m_work.null_halfedge() ? m_tm.null_halfedge() : halfedge_of(h));
+      put(vpm, vertex_of(w), point_as<P>(points[m_windex[w]]));
+    }
+  }
+
+  /// The faces' halfedges.
+  void write_faces() {
+    for (F f : m_work.faces()) {
+      m_tm.set_halfedge(m_face_of_work[f], halfedge_of(m_work.halfedge(f)));
+      m_out.face_of.push_back(m_face_of_work[f]);
+    }
+  }
+
+  /// The elements of `tm` holding the result.
+  Committed_elements<Mesh> finish() {
+    // Every element removed above was taken back: the mesh has no garbage, as before (with none
+    // removed, collect_garbage moves nothing; it only clears the flag).
+    if (!m_had_garbage && m_tm.number_of_removed_vertices() == 0 && m_tm.number_of_removed_edges() == 0 &&
+        m_tm.number_of_removed_faces() == 0)
+      m_tm.collect_garbage();
+    return std::move(m_out);
+  }
+
+ private:
+  V vertex_of(V w) const { return m_out.vertex_of[m_windex[w]]; }
+  // m_base[e] stands for halfedge(e) of `work`, the even one of edge e's pair (an Edge_index made
+  // from a halfedge keeps that halfedge: work.halfedge(work.edge(h)) is h itself).
+  H halfedge_of(H h) const {
+    const std::size_t e = std::size_t(h) / 2;
+    return std::size_t(h) % 2 == 0 ? m_base[e] : m_tm.opposite(m_base[e]);
+  }
+
+  const Work& m_work;
+  Mesh& m_tm;
+  std::vector<V> m_template_vertex;
+  std::size_t m_nt;
+  std::vector<std::size_t> m_tindex, m_windex;
+  std::size_t m_nw = 0;
+  // The halfedge of `tm` standing for halfedge(e) of each edge e of `work` (null: not matched yet).
+  std::vector<H> m_base;
+  std::vector<char> m_edge_kept, m_face_kept;
+  std::vector<F> m_face_of_work;
+  std::vector<E> m_unmatched_edges;
+  std::vector<F> m_unmatched_faces;
+  bool m_had_garbage = false;
+  Committed_elements<Mesh> m_out;
+};
+
 /// CGAL::Surface_mesh: see the top of this file. `points[k]` is the position of the result's
 /// vertex k, written through `vpm`.
 template <typename WorkPoint, typename Point, typename VPM>
 Committed_elements<CGAL::Surface_mesh<Point>> commit_surface_mesh(const CGAL::Surface_mesh<WorkPoint>& work,
                                                                    const std::vector<Point_3>& points,
                                                                    CGAL::Surface_mesh<Point>& tm, const VPM& vpm) {
-  using Mesh = CGAL::Surface_mesh<Point>;
-  using P = typename boost::property_traits<VPM>::value_type;
-  using V = typename Mesh::Vertex_index;
-  using H = typename Mesh::Halfedge_index;
-  using E = typename Mesh::Edge_index;
-  using F = typename Mesh::Face_index;
-  constexpr std::size_t none = SIZE_MAX;
   if (std::max(tm.num_vertices(), work.num_vertices()) >= (std::size_t(1) << 32))
     throw Invalid_input("fit: too many vertices");
-
-  // Everything is computed before `tm` changes.
-  std::vector<V> template_vertex(tm.vertices().begin(), tm.vertices().end());
-  const std::size_t nt = template_vertex.size();
-  std::vector<std::size_t> tindex(tm.num_vertices(), none), windex(work.num_vertices(), none);
-  for (std::size_t i = 0; i < nt; ++i) tindex[template_vertex[i]] = i;
-  std::size_t nw = 0;
-  for (auto w : work.vertices()) windex[w] = nw++;
-  if (nw != points.size() || nw < nt) throw Invalid_input("fit: the result does not extend the template");
-
-  // Template edges and faces by their vertices.
-  std::unordered_map<std::uint64_t, E> template_edge;
-  template_edge.reserve(tm.number_of_edges());
-  for (E e : tm.edges())
-    template_edge.emplace(edge_key(tindex[tm.source(tm.halfedge(e))], tindex[tm.target(tm.halfedge(e))]), e);
-  std::unordered_map<std::array<std::size_t, 3>, F, Triangle_key_hash> template_face;
-  template_face.reserve(tm.number_of_faces());
-  for (F f : tm.faces()) {
-    const H h = tm.halfedge(f);
-    if (tm.next(tm.next(tm.next(h))) != h) continue;  // not a triangle: no result face matches it
-    template_face.emplace(triangle_key({tindex[tm.target(tm.prev(h))], tindex[tm.target(h)],
-                                        tindex[tm.target(tm.next(h))]}),
-                          f);
-  }
-
-  // The halfedge of `tm` standing for halfedge(e) of each edge e of `work` (null: not matched yet).
-  std::vector<H> base(work.num_edges(), H());
-  std::vector<char> edge_kept(tm.num_edges(), 0), face_kept(tm.num_faces(), 0);
-  std::vector<F> face_of_work(work.num_faces(), F());
-  std::vector<E> unmatched_edges;
-  std::vector<F> unmatched_faces;
-  for (auto e : work.edges()) {
-    const auto h = work.halfedge(e);
-    const std::size_t s = windex[work.source(h)], t = windex[work.target(h)];
-    if (s >= nt || t >= nt) {
-      unmatched_edges.push_back(e);
-      continue;
-    }
-    const auto it = template_edge.find(edge_key(s, t));
-    if (it == template_edge.end()) {
-      unmatched_edges.push_back(e);
-      continue;
-    }
-    const H th = tm.halfedge(it->second);
-    base[e] = tindex[tm.target(th)] == t ? th : tm.opposite(th);
-    edge_kept[it->second] = 1;
-  }
-  for (auto f : work.faces()) {
-    const auto h = work.halfedge(f);
-    const std::array<std::size_t, 3> c{windex[work.target(work.prev(h))], windex[work.target(h)],
-                                       windex[work.target(work.next(h))]};
-    const auto it = c[0] < nt && c[1] < nt && c[2] < nt ? template_face.find(triangle_key(c)) : template_face.end();
-    if (it == template_face.end()) {
-      unmatched_faces.push_back(f);
-      continue;
-    }
-    face_of_work[f] = it->second;
-    face_kept[it->second] = 1;
-  }
-
-  // The elements of the template that no result element matches go to the free lists; the
-  // result's other edges and faces take them back (add_edge and add_face reset their property
-  // values to the defaults) or are appended. Vertices are appended, never recycled: the
-  // template's vertices come first in vertices(tm).
-  const bool recycle = tm.does_recycle_garbage(), had_garbage = tm.has_garbage();
-  for (E e : std::vector<E>(tm.edges().begin(), tm.edges().end()))
-    if (!edge_kept[e]) tm.remove_edge(e);
-  for (F f : std::vector<F>(tm.faces().begin(), tm.faces().end()))
-    if (!face_kept[f]) tm.remove_face(f);
-  tm.set_recycle_garbage(true);
-  for (E e : unmatched_edges) base[e] = tm.add_edge();
-  for (F f : unmatched_faces) face_of_work[f] = tm.add_face();
-  tm.set_recycle_garbage(false);
-  Committed_elements<Mesh> out;
-  out.vertex_of = template_vertex;
-  out.vertex_of.reserve(nw);
-  for (std::size_t k = nt; k < nw; ++k) out.vertex_of.push_back(tm.add_vertex());
-  tm.set_recycle_garbage(recycle);
-
-  auto vertex_of = [&](V w) { return out.vertex_of[windex[w]]; };
-  // base[e] stands for halfedge(e) of `work`, the even one of edge e's pair (an Edge_index made
-  // from a halfedge keeps that halfedge: work.halfedge(work.edge(h)) is h itself).
-  auto halfedge_of = [&](H h) {
-    const std::size_t e = std::size_t(h) / 2;
-    return std::size_t(h) % 2 == 0 ? base[e] : tm.opposite(base[e]);
-  };
-  for (H h : work.halfedges()) {
-    const H th = halfedge_of(h);
-    tm.set_target(th, vertex_of(work.target(h)));
-    tm.set_face(th, work.face(h) == work.null_face() ? tm.null_face() : face_of_work[work.face(h)]);
-    tm.set_next(th, halfedge_of(work.next(h)));
-  }
-  for (V w : work.vertices()) {
-    const H h = work.halfedge(w);
-    tm.set_halfedge(vertex_of(w), h == work.null_halfedge() ? tm.null_halfedge() : halfedge_of(h));
-    put(vpm, vertex_of(w), point_as<P>(points[windex[w]]));
-  }
-  for (F f : work.faces()) {
-    tm.set_halfedge(face_of_work[f], halfedge_of(work.halfedge(f)));
-    out.face_of.push_back(face_of_work[f]);
-  }
-  // Every element removed above was taken back: the mesh has no garbage, as before (with none
-  // removed, collect_garbage moves nothing; it only clears the flag).
-  if (!had_garbage && tm.number_of_removed_vertices() == 0 && tm.number_of_removed_edges() == 0 &&
-      tm.number_of_removed_faces() == 0)
-    tm.collect_garbage();
-  return out;
+  Surface_mesh_commit<WorkPoint, Point> commit(work, tm, points.size());
+  const auto template_edge = commit.template_edges();
+  const auto template_face = commit.template_faces();
+  commit.match_edges(template_edge);
+  commit.match_faces(template_face);
+  commit.take_elements();
+  commit.write_halfedges();
+  commit.write_vertices(points, vpm);
+  commit.write_faces();
+  return commit.finish();
 }
 
 /// Any other mutable face graph: see the top of this file. `triangles` are the result's faces by

@@ -584,6 +584,129 @@ inline std::vector<std::size_t> match_network_vertices(const std::vector<Point_3
 }  // namespace internal
 
 namespace internal {
+/// The steps of partition_mesh_in_place, on a Partitioner of `tm` (its own copies of `vpm` and
+/// `ecm`; the steps here write through the caller's), filling `report`.
+template <typename TriangleMesh, typename VPM, typename ECM>
+class Partition_run {
+  using GT = boost::graph_traits<TriangleMesh>;
+  using vertex_descriptor = typename GT::vertex_descriptor;
+
+ public:
+  Partition_run(TriangleMesh& tm, const VPM& vpm, ECM& ecm, const Curve_network& network, Partition_report& report)
+      : m_tm(tm), m_vpm(vpm), m_ecm(ecm), m_network(network), m_report(report), m_partitioner(tm, vpm, ecm) {}
+
+  /// The mesh vertex of each network vertex (match_network_vertices); no segment embedded yet.
+  void match_vertices() {
+    Partitioner<TriangleMesh, VPM, ECM>& p = m_partitioner;
+    std::vector<Point_3> points;
+    points.reserve(p.number_of_vertices());
+    for (std::size_t i = 0; i < p.number_of_vertices(); ++i) points.push_back(p.point(p.vertex(i)));
+    m_report.mesh_vertex_of_network_vertex = match_network_vertices(points, m_network);
+    m_report.segments = m_network.segments().size();
+    m_report.how.assign(m_network.segments().size(), Segment_embedding::not_embedded);
+  }
+
+  /// A segment that is already a chain of mesh edges lying on it (as stage 1's surface fine level
+  /// leaves them, or an earlier partition) is kept as it is, its inner vertices fixed.
+  void keep_edge_chains() {
+    for (auto e : edges(m_tm)) put(m_ecm, e, false);
+    const CGAL::Static_boolean_property_map<typename GT::edge_descriptor, true> every_edge;
+    for (std::size_t s = 0; s < m_network.segments().size(); ++s) {
+      const auto [a, b] = ends(s);
+      const auto chain = segment_edge_chain(m_tm, m_vpm, every_edge, a, b, m_network.tolerance());
+      if (chain.size() < 2) continue;
+      m_report.how[s] = Segment_embedding::existing_edge;
+      for (std::size_t k = 0; k + 1 < chain.size(); ++k) {
+        put(m_ecm, edge(halfedge(chain[k], chain[k + 1], m_tm).first, m_tm), true);
+        m_partitioner.fix(chain[k + 1]);
+      }
+    }
+  }
+
+  /// Fixes the network's vertices and those `vcm` constrains: no walk goes through them and no
+  /// insertion moves them.
+  template <typename VCM>
+  void fix_vertices(const VCM& vcm) {
+    for (std::size_t t : m_report.mesh_vertex_of_network_vertex) m_partitioner.fix(m_partitioner.vertex(t));
+    for (auto v : vertices(m_tm))
+      if (get(vcm, v)) m_partitioner.fix(v);
+  }
+
+  /// The segments not embedded yet that are an edge of the mesh become that edge.
+  void take_existing_edges() {
+    for_each_not_embedded([this](std::size_t s, vertex_descriptor a, vertex_descriptor b) {
+      if (m_partitioner.take_existing_edge(a, b)) m_report.how[s] = Segment_embedding::existing_edge;
+    });
+  }
+
+  /// The segments not embedded yet, inserted along their projected paths (an edge an earlier
+  /// insertion made is taken as it is).
+  void insert_by_walks() {
+    for_each_not_embedded([this](std::size_t s, vertex_descriptor a, vertex_descriptor b) {
+      if (m_partitioner.take_existing_edge(a, b)) {
+        m_report.how[s] = Segment_embedding::existing_edge;
+      } else if (m_partitioner.insert_by_walk(a, b, m_report)) {
+        m_report.how[s] = Segment_embedding::walk;
+      } else {
+        ++m_report.walks_failed;
+      }
+    });
+  }
+
+  /// The segments not embedded yet, inserted by the fallback; those it fails on are reported as
+  /// not embedded.
+  void insert_by_fallback() {
+    for_each_not_embedded([this](std::size_t s, vertex_descriptor a, vertex_descriptor b) {
+      if (m_partitioner.take_existing_edge(a, b))
+        m_report.how[s] = Segment_embedding::existing_edge;
+      else if (m_partitioner.insert_by_shortest_path(a, b, m_report))
+        m_report.how[s] = Segment_embedding::fallback;
+      else
+        m_report.not_embedded.push_back(s);
+    });
+  }
+
+  /// The report's counts of segments by how they were embedded.
+  void count_embeddings() {
+    for (Segment_embedding h : m_report.how) {
+      m_report.existing_edges += h == Segment_embedding::existing_edge;
+      m_report.by_walk += h == Segment_embedding::walk;
+      m_report.by_fallback += h == Segment_embedding::fallback;
+    }
+  }
+
+  /// Partitioner::label_regions.
+  template <typename FacePatchMap>
+  std::size_t label_regions(FacePatchMap fpm) {
+    return m_partitioner.label_regions(fpm);
+  }
+
+ private:
+  // The mesh vertices of segment s's ends.
+  std::pair<vertex_descriptor, vertex_descriptor> ends(std::size_t s) const {
+    const auto& segment = m_network.segments()[s];
+    return std::make_pair(m_partitioner.vertex(m_report.mesh_vertex_of_network_vertex[segment[0]]),
+                          m_partitioner.vertex(m_report.mesh_vertex_of_network_vertex[segment[1]]));
+  }
+
+  // Calls `embed(s, a, b)`, a and b the ends of segment s, for each segment s not embedded yet.
+  template <typename Embed>
+  void for_each_not_embedded(const Embed& embed) {
+    for (std::size_t s = 0; s < m_network.segments().size(); ++s) {
+      if (m_report.how[s] != Segment_embedding::not_embedded) continue;
+      const auto [a, b] = ends(s);
+      embed(s, a, b);
+    }
+  }
+
+  TriangleMesh& m_tm;
+  const VPM& m_vpm;
+  ECM& m_ecm;
+  const Curve_network& m_network;
+  Partition_report& m_report;
+  Partitioner<TriangleMesh, VPM, ECM> m_partitioner;
+};
+
 /// partition_mesh on `tm` itself: the mesh changes as the work goes (a cancel leaves it partly
 /// partitioned). For meshes the pipeline owns (fit's and deform's copies).
 template <typename TriangleMesh, typename NamedParameters>
@@ -602,80 +725,27 @@ Partition_report partition_mesh_in_place(TriangleMesh& tm, const Curve_network& 
   if (network.number_of_segments() == 0) throw Invalid_input("partition: the curve network has no segment");
 
   report_progress(progress, "partition", "matching network vertices to mesh vertices", 0, 4);
-  Partitioner<TriangleMesh, decltype(vpm), decltype(ecm)> p(tm, vpm, ecm);
-  std::vector<Point_3> points;
-  points.reserve(p.number_of_vertices());
-  for (std::size_t i = 0; i < p.number_of_vertices(); ++i) points.push_back(p.point(p.vertex(i)));
   Partition_report report;
-  report.mesh_vertex_of_network_vertex = match_network_vertices(points, network);
-  const auto& segments = network.segments();
-  report.segments = segments.size();
-  report.how.assign(segments.size(), Segment_embedding::not_embedded);
-  auto ends = [&](std::size_t s) {
-    return std::make_pair(p.vertex(report.mesh_vertex_of_network_vertex[segments[s][0]]),
-                          p.vertex(report.mesh_vertex_of_network_vertex[segments[s][1]]));
-  };
-  // A segment that is already a chain of mesh edges lying on it (as stage 1's surface fine level
-  // leaves them, or an earlier partition) is kept as it is, its inner vertices fixed.
-  for (auto e : edges(tm)) put(ecm, e, false);
-  const CGAL::Static_boolean_property_map<typename GT::edge_descriptor, true> every_edge;
-  for (std::size_t s = 0; s < segments.size(); ++s) {
-    const auto [a, b] = ends(s);
-    const auto chain = segment_edge_chain(tm, vpm, every_edge, a, b, network.tolerance());
-    if (chain.size() < 2) continue;
-    report.how[s] = Segment_embedding::existing_edge;
-    for (std::size_t k = 0; k + 1 < chain.size(); ++k) {
-      put(ecm, edge(halfedge(chain[k], chain[k + 1], tm).first, tm), true);
-      p.fix(chain[k + 1]);
-    }
-  }
-  for (std::size_t t : report.mesh_vertex_of_network_vertex) p.fix(p.vertex(t));
-  for (auto v : vertices(tm))
-    if (get(vcm, v)) p.fix(v);
-
+  Partition_run<TriangleMesh, decltype(vpm), decltype(ecm)> run(tm, vpm, ecm, network, report);
+  run.match_vertices();
+  run.keep_edge_chains();
+  run.fix_vertices(vcm);
   // Existing edges first, so that no walk crosses or flips them away.
-  for (std::size_t s = 0; s < segments.size(); ++s) {
-    if (report.how[s] != Segment_embedding::not_embedded) continue;
-    const auto [a, b] = ends(s);
-    if (p.take_existing_edge(a, b)) report.how[s] = Segment_embedding::existing_edge;
-  }
+  run.take_existing_edges();
   report.matching_seconds = seconds_since(t0);
   report_progress(progress, "partition", "inserting segments along their projected paths", 1, 4);
   const auto t1 = std::chrono::steady_clock::now();
-  for (std::size_t s = 0; s < segments.size(); ++s) {
-    if (report.how[s] != Segment_embedding::not_embedded) continue;
-    const auto [a, b] = ends(s);
-    if (p.take_existing_edge(a, b)) {
-      report.how[s] = Segment_embedding::existing_edge;
-    } else if (p.insert_by_walk(a, b, report)) {
-      report.how[s] = Segment_embedding::walk;
-    } else {
-      ++report.walks_failed;
-    }
-  }
+  run.insert_by_walks();
   report.walk_seconds = seconds_since(t1);
   report_progress(progress, "partition", "fallback: moving shortest edge paths onto the other segments", 2,
                             4);
   const auto t2 = std::chrono::steady_clock::now();
-  for (std::size_t s = 0; s < segments.size(); ++s) {
-    if (report.how[s] != Segment_embedding::not_embedded) continue;
-    const auto [a, b] = ends(s);
-    if (p.take_existing_edge(a, b))
-      report.how[s] = Segment_embedding::existing_edge;
-    else if (p.insert_by_shortest_path(a, b, report))
-      report.how[s] = Segment_embedding::fallback;
-    else
-      report.not_embedded.push_back(s);
-  }
-  for (Segment_embedding h : report.how) {
-    report.existing_edges += h == Segment_embedding::existing_edge;
-    report.by_walk += h == Segment_embedding::walk;
-    report.by_fallback += h == Segment_embedding::fallback;
-  }
+  run.insert_by_fallback();
+  run.count_embeddings();
   report.fallback_seconds = seconds_since(t2);
   report_progress(progress, "partition", "labelling regions", 3, 4);
   const auto t3 = std::chrono::steady_clock::now();
-  report.regions = p.label_regions(get_parameter(np, CGAL::internal_np::face_patch));
+  report.regions = run.label_regions(get_parameter(np, CGAL::internal_np::face_patch));
   report.region_seconds = seconds_since(t3);
   for (auto e : edges(tm)) report.curve_edges += get(ecm, e) ? 1 : 0;
   report.vertices = num_vertices(tm);

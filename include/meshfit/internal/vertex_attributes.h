@@ -20,12 +20,14 @@
 #include <meshfit/io.h>
 
 #include <CGAL/IO/Color.h>
+#include <CGAL/Polygon_mesh_processing/compute_normal.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstddef>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace meshfit {
@@ -147,6 +149,79 @@ void put_extended_attribute(const Map& map, const VertexRange& vertex_of, std::s
     for (std::size_t k = template_count; k < values.size(); ++k)
       put(map, vertex_of[k], Channels::template make<Value>(values[k]));
   }
+}
+
+/// The vertex attributes fit_template_to_curves carries to the added vertices: the caller's maps
+/// (each possibly not given) and their values on the result's vertices.
+template <typename TextureMap, typename NormalMap, typename ColorMap>
+struct Carried_attributes {
+  TextureMap texture_map;
+  NormalMap normal_map;
+  ColorMap color_map;
+  std::size_t template_count = 0;
+  std::vector<std::array<double, Texture_channels::size>> uvs;
+  std::vector<std::array<double, Normal_channels::size>> normals;
+  std::vector<std::array<double, Color_channels::size>> colors;
+  /// The added vertices whose normal the extension cancels out: they get the result's geometric
+  /// normal once `tm` holds the result.
+  std::vector<bool> geometric_normal;
+
+  Carried_attributes(const TextureMap& t, const NormalMap& n, const ColorMap& c)
+      : texture_map(t), normal_map(n), color_map(c) {}
+
+  /// The values of the given maps on the template's vertices (those of `tm`), extended to the
+  /// added vertices of `result`; normals normalised.
+  /// \throws Invalid_input when a template value is not finite.
+  template <typename TriangleMesh>
+  void extend(const TriangleMesh& tm, const Mesh_data& result) {
+    using GT = boost::graph_traits<TriangleMesh>;
+    const std::vector<typename GT::vertex_descriptor> template_vertices(vertices(tm).begin(), vertices(tm).end());
+    template_count = template_vertices.size();
+    const Vertex_adjacency adjacency = is_given(texture_map) || is_given(normal_map) || is_given(color_map)
+                                           ? adjacency_of(result)
+                                           : Vertex_adjacency();
+    uvs = extended_attribute<Texture_channels>(texture_map, template_vertices, adjacency);
+    normals = extended_attribute<Normal_channels>(normal_map, template_vertices, adjacency);
+    colors = extended_attribute<Color_channels>(color_map, template_vertices, adjacency);
+    // Normalised; a normal that the mean cancels out is taken from the result's geometry (write).
+    geometric_normal.assign(normals.size(), false);
+    for (std::size_t k = template_count; k < normals.size(); ++k) {
+      const double len =
+          std::sqrt(normals[k][0] * normals[k][0] + normals[k][1] * normals[k][1] + normals[k][2] * normals[k][2]);
+      if (len > 1e-9)
+        for (double& c : normals[k]) c /= len;
+      else
+        geometric_normal[k] = true;
+    }
+  }
+
+  /// Puts the added vertices' values, `vertex_of[k]` being the result's vertex k in `tm`, which
+  /// holds the result; `tm_np` are the named parameters of PMP::compute_vertex_normal on `tm`.
+  template <typename TriangleMesh, typename VertexRange, typename TmParameters>
+  void write(TriangleMesh& tm, const VertexRange& vertex_of, const TmParameters& tm_np) {
+    put_extended_attribute<Texture_channels>(texture_map, vertex_of, template_count, uvs);
+    put_extended_attribute<Color_channels>(color_map, vertex_of, template_count, colors);
+    if constexpr (is_given_v<NormalMap>) {
+      for (std::size_t k = template_count; k < normals.size(); ++k)
+        if (geometric_normal[k]) {
+          const auto n = CGAL::Polygon_mesh_processing::compute_vertex_normal(vertex_of[k], tm, tm_np);
+          normals[k] = {double(n.x()), double(n.y()), double(n.z())};
+        }
+      put_extended_attribute<Normal_channels>(normal_map, vertex_of, template_count, normals);
+    }
+  }
+};
+
+/// The Carried_attributes of `np`'s `vertex_texture_map`, `vertex_normal_map` and
+/// `vertex_color_map`, with no values yet.
+template <typename NamedParameters>
+auto carried_attributes(const NamedParameters& np) {
+  using CGAL::parameters::get_parameter;
+  const auto texture_map = get_parameter(np, CGAL::internal_np::vertex_texture_map);
+  const auto normal_map = get_parameter(np, CGAL::internal_np::vertex_normal_map);
+  const auto color_map = get_parameter(np, CGAL::internal_np::vertex_color_map);
+  return Carried_attributes<std::decay_t<decltype(texture_map)>, std::decay_t<decltype(normal_map)>,
+                            std::decay_t<decltype(color_map)>>(texture_map, normal_map, color_map);
 }
 
 }  // namespace internal
