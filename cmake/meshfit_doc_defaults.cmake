@@ -1,7 +1,7 @@
 # The defaults the reference shows, read from the one place the code writes them, as Doxygen
 # aliases: the headers write `\cgalParamDefault{\default_flip_prevention_rounds}`, not `10`.
 #   - the fields of meshfit::Deform_options (include/meshfit/deform.h): \default_<field>;
-#   - the fields of internal::Fit_options (include/meshfit/fit.h): \default_fit_<field>;
+#   - the fields of internal::Fit_options (include/meshfit/internal/fit_impl.h): \default_fit_<field>;
 #   - the fields of internal::Flow_settings (include/meshfit/internal/smooth_impl.h): \default_flow_<field>;
 #   - its `constexpr std::size_t default_<name> = <n>;` counts: \default_<name>, and fit's and
 #     smooth_fitted_mesh's split of default_smoothing_iterations, \default_mean_curvature_iterations
@@ -34,7 +34,7 @@ function(meshfit_doc_defaults source_dir)
     set(${out_found} "${f}" PARENT_SCOPE)
   endfunction()
   read_struct_defaults("${source_dir}/include/meshfit/deform.h" Deform_options default_ aliases found)
-  read_struct_defaults("${source_dir}/include/meshfit/fit.h" Fit_options default_fit_ aliases found)
+  read_struct_defaults("${source_dir}/include/meshfit/internal/fit_impl.h" Fit_options default_fit_ aliases found)
   set(smooth "${source_dir}/include/meshfit/internal/smooth_impl.h")
   read_struct_defaults("${smooth}" Flow_settings default_flow_ aliases found)
   file(STRINGS "${smooth}" counts REGEX "^constexpr std::size_t default_[a-z_]+ = [0-9]+;")
