@@ -126,7 +126,7 @@ struct Topology {
     const Outgoing_half_edges out(m, n);
     number_edges(out, m.constrained_edges);
     build_neighbour_rows();
-    build_incident_face_rows(m);
+    build_incident_face_rows(m, out.start);
     double sum = 0;
     for (const auto& e : edge_vertices) sum += std::sqrt(dot(load(m.points.data(), e[0]) - load(m.points.data(), e[1]),
                                                              load(m.points.data(), e[0]) - load(m.points.data(), e[1])));
@@ -185,12 +185,10 @@ struct Topology {
     }
   }
 
-  // Vertex → incident face rows (vf_start, vf).
-  void build_incident_face_rows(const Smoothing_arrays& m) {
-    vf_start.assign(n + 1, 0);
-    for (const auto& t : m.triangles)
-      for (std::uint32_t v : t) ++vf_start[v + 1];
-    std::partial_sum(vf_start.begin(), vf_start.end(), vf_start.begin());
+  // Vertex → incident face rows (vf_start, vf). A vertex has as many incident faces as outgoing
+  // half-edges: the rows start where Outgoing_half_edges's do.
+  void build_incident_face_rows(const Smoothing_arrays& m, const std::vector<std::uint32_t>& out_start) {
+    vf_start = out_start;
     vf.resize(vf_start[n]);
     std::vector<std::uint32_t> fill(vf_start.begin(), vf_start.end() - 1);
     for (std::size_t f = 0; f < nf; ++f)
