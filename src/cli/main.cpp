@@ -23,6 +23,9 @@
 #include <nlohmann/json.hpp>
 
 #include <sys/ioctl.h>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 #include <unistd.h>
 
 #include <algorithm>
@@ -1525,6 +1528,16 @@ int run_fit(const Command_line& cl) {
 }  // namespace
 
 int main(int argc, char** argv) {
+#if defined(__GLIBC__)
+  // A fit allocates and frees arrays of many megabytes step after step (sparse systems, per-vertex
+  // state). glibc serves each from fresh mmap pages and unmaps it when it is freed, so every step
+  // pays the kernel to fault its pages in again. Served from the heap and never given back while
+  // the command runs, freed memory is reused instead: on the 327 680-face scale case
+  // (bench/scale), 336 000 page faults and 3.1-3.7 s of system time in runs of 15.0-17.6 s became
+  // 155 000 faults and 1.9-2.2 s in runs of 13.2-14.0 s; peak memory 565 MB -> 630 MB.
+  mallopt(M_MMAP_THRESHOLD, 1 << 30);
+  mallopt(M_TRIM_THRESHOLD, 1 << 30);
+#endif
   try {
     const Parsed parsed = parse(argc, argv);
     if (parsed.exit_now) return success;
