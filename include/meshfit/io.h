@@ -15,6 +15,7 @@
 
 #include <meshfit/exceptions.h>
 #include <meshfit/internal/clear_mesh.h>
+#include <meshfit/internal/patches_and_curves.h>
 #include <meshfit/internal/triangle_corners.h>
 #include <meshfit/kernel.h>
 
@@ -222,37 +223,6 @@ std::vector<Region_mesh> write_region_meshes(const std::string& dir, const Mesh_
                                              const Write_options& options = Write_options());
 
 // ---- TriangleMesh front end ---------------------------------------------------------------------
-
-namespace internal {
-
-/// Writes the regions and curve edges of `mesh` into the `face_patch_map` and
-/// `edge_is_constrained_map` of `np` (when given), on `tm` whose vertex `vertex_of[i]` and face
-/// `face_of[f]` are vertex i and triangle f of `mesh`.
-template <typename TriangleMesh, typename VertexRange, typename FaceRange, typename NamedParameters>
-void put_patches_and_curves(const Mesh_data& mesh, TriangleMesh& tm, const VertexRange& vertex_of,
-                            const FaceRange& face_of, const NamedParameters& np) {
-  using CGAL::parameters::get_parameter;
-  auto fpm = get_parameter(np, CGAL::internal_np::face_patch);
-  if constexpr (!std::is_same_v<decltype(fpm), CGAL::internal_np::Param_not_found>) {
-    for (std::size_t f = 0; f < face_of.size(); ++f)
-      put(fpm, face_of[f], mesh.face_patch.empty() ? 0 : mesh.face_patch[f]);
-  }
-  auto ecm = get_parameter(np, CGAL::internal_np::edge_is_constrained);
-  if constexpr (!std::is_same_v<decltype(ecm), CGAL::internal_np::Param_not_found>) {
-    for (auto e : edges(tm)) put(ecm, e, false);
-    for (const auto& ce : mesh.curve_edges) {
-      if (ce[0] >= vertex_of.size() || ce[1] >= vertex_of.size())
-        throw Invalid_input("a curve edge refers to a missing vertex");
-      const auto h = halfedge(vertex_of[ce[0]], vertex_of[ce[1]], tm);
-      if (!h.second)
-        throw Invalid_input("curve edge (" + std::to_string(ce[0]) + ", " +
-                            std::to_string(ce[1]) + ") is not an edge of the mesh");
-      put(ecm, edge(h.first, tm), true);
-    }
-  }
-}
-
-}  // namespace internal
 
 /// Replaces the content of `tm` by `mesh` and returns the vertex created for each point.
 /// \tparam TriangleMesh a model of `MutableFaceGraph`

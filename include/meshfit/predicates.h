@@ -74,8 +74,6 @@ inline CGAL::Sign orientation_in_plane(const Triangle_points& plane, const Point
   return Plane_orientation(plane)(a, b, c);
 }
 
-namespace internal {
-
 /// Whether the interior edge of `h` folds: its two faces turn more than 90 degrees apart (the face
 /// across the edge is not positively oriented in the plane of the face of `h`; exact). `point(v)`
 /// gives the position of vertex v. The fine level's repair and fit's verification both count this.
@@ -87,8 +85,6 @@ bool edge_folds(const TriangleMesh& tm, typename boost::graph_traits<TriangleMes
   return orientation_in_plane(a, point(source(g, tm)), point(target(g, tm)), point(target(next(g, tm), tm))) !=
          CGAL::POSITIVE;
 }
-
-}  // namespace internal
 
 }  // namespace meshfit
 

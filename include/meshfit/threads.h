@@ -10,25 +10,11 @@
 #ifndef MESHFIT_THREADS_H
 #define MESHFIT_THREADS_H
 
+#include <meshfit/internal/openblas_threads.h>
+
 #include <optional>
 
 namespace meshfit {
-
-namespace internal {
-/// Sets OpenBLAS's thread count (only; OpenMP's is left) to `n` for its own lifetime: the
-/// destructor puts it back as it was. Scoped_number_of_threads holds one; the CHOLMOD solves of
-/// displacement.cpp hold one with `n` = 1 around their factorisation.
-class Scoped_openblas_threads {
- public:
-  explicit Scoped_openblas_threads(int n);  ///< sets the count to `n` (at least 1)
-  ~Scoped_openblas_threads();               ///< puts it back
-  Scoped_openblas_threads(const Scoped_openblas_threads&) = delete;
-  Scoped_openblas_threads& operator=(const Scoped_openblas_threads&) = delete;
-
- private:
-  int m_previous;  // the count to put back
-};
-}  // namespace internal
 
 /// Limits meshfit's computations to `n` threads: `omp_set_num_threads(n)` and
 /// `openblas_set_num_threads(n)`. OpenMP's setting belongs to the calling thread: call it from the

@@ -116,7 +116,7 @@ struct Deform_state {
       const auto h = halfedge(e, tm), g = opposite(h, tm);
       if (is_border(h, tm) || is_border(g, tm)) continue;
       if (except && ek < except->size() && (*except)[ek]) continue;
-      if (!internal::edge_folds(tm, h, [&](vertex_descriptor v) { return positions[get(index, v)]; })) continue;
+      if (!edge_folds(tm, h, [&](vertex_descriptor v) { return positions[get(index, v)]; })) continue;
       if (folded_edges) (*folded_edges)[ek] = true;
       out.push_back(face(h, tm));
       out.push_back(face(g, tm));
