@@ -5,6 +5,7 @@
 // independent fit oracle (bench/battery/fit_oracle.h), not fit's verification.
 #include <meshfit/fit.h>
 #include <meshfit/internal/partition_impl.h>
+#include <meshfit/internal/vertex_attributes.h>
 #include <meshfit/io.h>
 
 #include <CGAL/Polyhedron_3.h>
@@ -300,6 +301,39 @@ TEST_CASE("fit: texture coordinates, colours and normals are carried to the adde
     CHECK(std::abs(normal[v].squared_length() - 1) < 1e-12);
     CHECK(normal[v] * mean > 0);
   }
+}
+
+TEST_CASE("vertex attributes: an added vertex gets its neighbours' mean, and where normals cancel the area-weighted normal",
+          "[fit][caller_data]") {
+  // Template vertices 0-3, the corners of a unit square in the plane z = 1; the result adds vertex
+  // 4 at its centre, in four triangles turning counter-clockwise seen from +z.
+  meshfit::Mesh_data tmpl;
+  tmpl.points = {{0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+  tmpl.vertex_uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  meshfit::Mesh_data result;
+  result.points = tmpl.points;
+  result.points.push_back({0.5, 0.5, 1});
+  result.triangles = {{4, 0, 1}, {4, 1, 2}, {4, 2, 3}, {4, 3, 0}};
+  SECTION("normals whose mean has a length: normalised") {
+    tmpl.vertex_normals = {{0, 0, 2}, {0, 1, 1}, {0, 0, 2}, {0, -1, 1}};
+    meshfit::internal::extend_vertex_attributes(tmpl, result);
+    REQUIRE(result.vertex_normals.size() == 5);
+    for (std::size_t i = 0; i < 4; ++i) CHECK(result.vertex_normals[i] == tmpl.vertex_normals[i]);
+    CHECK(std::abs(result.vertex_normals[4][0]) < 1e-12);
+    CHECK(std::abs(result.vertex_normals[4][1]) < 1e-12);
+    CHECK(std::abs(result.vertex_normals[4][2] - 1) < 1e-12);
+  }
+  SECTION("normals that cancel: the result's geometric normal") {
+    tmpl.vertex_normals = {{1, 0, 0}, {-1, 0, 0}, {1, 0, 0}, {-1, 0, 0}};
+    meshfit::internal::extend_vertex_attributes(tmpl, result);
+    REQUIRE(result.vertex_normals.size() == 5);
+    CHECK(result.vertex_normals[4] == std::array<double, 3>{0, 0, 1});
+  }
+  // The UVs: the centre's is its four neighbours' mean.
+  REQUIRE(result.vertex_uvs.size() == 5);
+  CHECK(std::abs(result.vertex_uvs[4][0] - 0.5) < 1e-12);
+  CHECK(std::abs(result.vertex_uvs[4][1] - 0.5) < 1e-12);
+  CHECK(result.vertex_colors.empty());
 }
 
 TEST_CASE("fit: a Polyhedron keeps its vertex handles, a map keyed by them gets the added vertices' UVs",

@@ -168,7 +168,8 @@ struct Fit_report {
 ///   of its neighbours' values. Normals are extended likewise and normalised (they stay consistent
 ///   with the template's normals, which keep the caller's values even where the surface moved;
 ///   call PMP::compute_vertex_normals after for geometric ones); where the extension cancels out,
-///   the result's geometric normal is taken.
+///   the result's geometric normal is taken (the sum of the vertex's triangles' normals weighted by
+///   their areas).
 /// \tparam TriangleMesh a model of `MutableFaceGraph` (tested: CGAL::Surface_mesh, CGAL::Polyhedron_3) whose
 ///         points have double Cartesian coordinates (any Cartesian kernel over double, e.g. Epick,
 ///         Simple_cartesian<double>; an exact kernel is refused at compile time)
@@ -291,7 +292,7 @@ struct Fit_report {
 ///       meshfit::Algorithm_failure and `tm` is unchanged.}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{geom_traits}
-///     \cgalParamDescription{the geometric traits of `tm`'s points: checked at compile time to be a Cartesian kernel over `double`, and passed to the CGAL functions fit_template_to_curves calls on `tm` itself (PMP::compute_vertex_normal for the added vertices' geometric normals, with `vertex_normal_map`); the stages and the verification do not call it}
+///     \cgalParamDescription{the geometric traits of `tm`'s points: checked at compile time to be a Cartesian kernel over `double`; the stages and the verification compute on meshfit's copy of the points in meshfit::Kernel}
 ///     \cgalParamType{a Cartesian kernel over `double` (`FT` = `double`): `CGAL::Epick`, `CGAL::Simple_cartesian<double>`;
 ///       anything else (an exact kernel such as Epeck) is refused at compile time by a static assertion}
 ///     \cgalParamDefault{the kernel of the point type of the `vertex_point_map` (meshfit::Kernel, Epick, for meshfit::Point_3)}
@@ -323,7 +324,6 @@ Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& input_n
   const internal::Fit_options options = internal::fit_options(np);
   const Scoped_number_of_threads threads(internal::threads_of(np, "fit"));
   const auto vpm = internal::vertex_point_map_of(tm, np);
-  const auto tm_np = internal::caller_mesh_parameters(vpm, np);
 
   Fit_report report;
   report.template_vertices = num_vertices(tm);
@@ -355,7 +355,7 @@ Fit_report fit_template_to_curves(TriangleMesh& tm, const Curve_network& input_n
 
   const internal::Committed_elements<TriangleMesh> committed = internal::commit_work(work, result, tm, vpm);
   internal::put_patches_and_curves(result, tm, committed.vertex_of, committed.face_of, np);
-  attributes.write(tm, committed.vertex_of, tm_np);
+  attributes.write(committed.vertex_of);
   report.total_seconds = internal::seconds_since(t0);
   return report;
 }

@@ -40,10 +40,8 @@
 /// `edge_is_constrained_map` (outputs of partition_mesh and fit_template_to_curves; io; smooth:
 /// curve edges as input; project_segment: edges not to cross); `vertex_is_constrained_map` (smooth,
 /// partition_mesh, project_segment); `geom_traits` (every stage: it must be a Cartesian kernel over
-/// double, checked at compile time, as the points of the mesh must have double coordinates;
-/// fit_template_to_curves passes it to the CGAL functions it calls on the caller's mesh, the
-/// self-intersection test and the geometric normals of added vertices; the stages compute on
-/// meshfit's own copies in meshfit::Kernel, exactly from the same doubles).
+/// double, checked at compile time, as the points of the mesh must have double coordinates; the
+/// stages compute on meshfit's own copies in meshfit::Kernel, exactly from the same doubles).
 #ifndef MESHFIT_PARAMETERS_H
 #define MESHFIT_PARAMETERS_H
 

@@ -880,35 +880,6 @@ void read_fit_inputs(const Command_line& cl, Fit_inputs& in) {
   in.read_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-/// The template's vertex attributes (`td`) on deform's result `out`, whose vertex i is template
-/// vertex i, the added vertices following: the template's values as read, the added vertices'
-/// by the harmonic extension fit_template_to_curves uses (internal/vertex_attributes.h); normals
-/// normalised, or the area-weighted face normal where the extension cancels out.
-void extend_template_attributes(const meshfit::Mesh_data& td, meshfit::Mesh_data& out) {
-  using meshfit::internal::harmonic_extension;
-  if (vertex_attribute_names(td).empty()) return;
-  const meshfit::Vertex_adjacency adjacency = meshfit::internal::adjacency_of(out);
-  if (!td.vertex_uvs.empty()) out.vertex_uvs = harmonic_extension<2>(adjacency, td.vertex_uvs, "texture coordinates");
-  if (!td.vertex_colors.empty()) out.vertex_colors = harmonic_extension<4>(adjacency, td.vertex_colors, "colours");
-  if (td.vertex_normals.empty()) return;
-  out.vertex_normals = harmonic_extension<3>(adjacency, td.vertex_normals, "normals");
-  std::vector<meshfit::Vector_3> area_normal(out.points.size(), meshfit::Vector_3(0, 0, 0));
-  for (const auto& t : out.triangles) {
-    const auto n = CGAL::cross_product(out.points[t[1]] - out.points[t[0]], out.points[t[2]] - out.points[t[0]]);
-    for (std::size_t v : t) area_normal[v] = area_normal[v] + n;
-  }
-  for (std::size_t k = td.points.size(); k < out.points.size(); ++k) {
-    auto& n = out.vertex_normals[k];
-    double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    if (!(len > 1e-9)) {
-      n = {area_normal[k].x(), area_normal[k].y(), area_normal[k].z()};
-      len = std::sqrt(area_normal[k].squared_length());
-    }
-    if (len > 0)
-      for (double& c : n) c /= len;
-  }
-}
-
 /// The input files of deform and fit.
 std::vector<std::string> fit_input_paths(const Command_line& cl) {
   return {cl.values.at("--template"), cl.values.at("--curves"), cl.values.at("--correspondences")};
@@ -1005,7 +976,7 @@ int run_deform(const Command_line& cl) {
   Stage_failure failure = deform_inputs(in, options, r);
   if (failure.message.empty()) failure.message = deform_result_failure(r, options);
   meshfit::Mesh_data out = meshfit::to_mesh_data(in.tm);
-  if (failure.message.empty()) extend_template_attributes(in.template_data, out);
+  if (failure.message.empty()) meshfit::internal::extend_vertex_attributes(in.template_data, out);
 
   if (!report_path.empty()) write_report(report_path, deform_report(r, failure, in, out));
   progress_display.finish();

@@ -53,18 +53,6 @@ Fit_options fit_options(const NamedParameters& np) {
   return options;
 }
 
-/// The named parameters of the CGAL functions fit_template_to_curves calls on `tm` itself
-/// (geometric normals of added vertices): `vpm`, and the caller's geom_traits when `np` gives
-/// them; the stages and the verification compute on meshfit's copy in meshfit's kernel.
-template <typename VPM, typename NamedParameters>
-auto caller_mesh_parameters(const VPM& vpm, const NamedParameters& np) {
-  const auto gt = CGAL::parameters::get_parameter(np, CGAL::internal_np::geom_traits);
-  if constexpr (is_given_v<decltype(gt)>)
-    return CGAL::parameters::vertex_point_map(vpm).geom_traits(gt);
-  else
-    return CGAL::parameters::vertex_point_map(vpm);
-}
-
 /// Stages 1-3 and the verification (compiled once, src/fit.cpp) on `work`, built from
 /// `template_data` (the template scaled to a unit-sized box), against `network` scaled by `unit`.
 /// Fills `report` (but for the template's counts and the total time) and `result`: the result,

@@ -10,7 +10,8 @@
 // Normals are interpolated the same way and normalised: a template vertex keeps the caller's
 // normal (which may be authored, with creases), and an added vertex between two template
 // vertices gets a normal between theirs, consistent with them; where the mean cancels out (less
-// than 1e-9 long) the result's geometric normal is taken.
+// than 1e-9 long) the result's geometric normal is taken (normalise_added_normals). fit's
+// Carried_attributes and the command line's deform both carry attributes this way.
 #ifndef MESHFIT_INTERNAL_VERTEX_ATTRIBUTES_H
 #define MESHFIT_INTERNAL_VERTEX_ATTRIBUTES_H
 
@@ -20,7 +21,6 @@
 #include <meshfit/io.h>
 
 #include <CGAL/IO/Color.h>
-#include <CGAL/Polygon_mesh_processing/compute_normal.h>
 
 #include <algorithm>
 #include <array>
@@ -80,6 +80,51 @@ std::vector<std::array<double, N>> harmonic_extension(const Vertex_adjacency& ad
       for (std::size_t c = 0; c < 3 && c0 + c < N; ++c) out[i][c0 + c] = d[i][int(c)];
   }
   return out;
+}
+
+/// Normalises the normals of the added vertices of `result` (k ≥ `template_count`). A normal that
+/// the extension cancels out (less than 1e-9 long) becomes the result's geometric normal at the
+/// vertex: the sum of its triangles' normals weighted by their areas, normalised (left as it is
+/// when that sum is zero too).
+inline void normalise_added_normals(std::vector<std::array<double, 3>>& normals, std::size_t template_count,
+                                    const Mesh_data& result) {
+  auto length = [](const std::array<double, 3>& n) { return std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]); };
+  std::vector<std::size_t> cancelled;
+  for (std::size_t k = template_count; k < normals.size(); ++k) {
+    const double len = length(normals[k]);
+    if (len > 1e-9)
+      for (double& c : normals[k]) c /= len;
+    else
+      cancelled.push_back(k);
+  }
+  if (cancelled.empty()) return;
+  std::vector<Vector_3> area_normal(result.points.size(), Vector_3(0, 0, 0));
+  for (const auto& t : result.triangles) {
+    const Vector_3 n = CGAL::cross_product(result.points[t[1]] - result.points[t[0]], result.points[t[2]] - result.points[t[0]]);
+    for (std::size_t v : t) area_normal[v] = area_normal[v] + n;
+  }
+  for (std::size_t k : cancelled) {
+    const Vector_3& n = area_normal[k];
+    normals[k] = {n.x(), n.y(), n.z()};
+    const double len = length(normals[k]);
+    if (len > 0)
+      for (double& c : normals[k]) c /= len;
+  }
+}
+
+/// The template's vertex attributes (`template_data`'s UVs, colours and normals, each when
+/// present) carried to `result`, whose first vertices are the template's.
+inline void extend_vertex_attributes(const Mesh_data& template_data, Mesh_data& result) {
+  if (template_data.vertex_uvs.empty() && template_data.vertex_colors.empty() && template_data.vertex_normals.empty())
+    return;
+  const Vertex_adjacency adjacency = adjacency_of(result);
+  if (!template_data.vertex_uvs.empty())
+    result.vertex_uvs = harmonic_extension<2>(adjacency, template_data.vertex_uvs, "texture coordinates");
+  if (!template_data.vertex_colors.empty())
+    result.vertex_colors = harmonic_extension<4>(adjacency, template_data.vertex_colors, "colours");
+  if (template_data.vertex_normals.empty()) return;
+  result.vertex_normals = harmonic_extension<3>(adjacency, template_data.vertex_normals, "normals");
+  normalise_added_normals(result.vertex_normals, template_data.points.size(), result);
 }
 
 /// Texture coordinates: any value with `x()`, `y()` and a constructor from two coordinates
@@ -162,15 +207,12 @@ struct Carried_attributes {
   std::vector<std::array<double, Texture_channels::size>> uvs;
   std::vector<std::array<double, Normal_channels::size>> normals;
   std::vector<std::array<double, Color_channels::size>> colors;
-  /// The added vertices whose normal the extension cancels out: they get the result's geometric
-  /// normal once `tm` holds the result.
-  std::vector<bool> geometric_normal;
 
   Carried_attributes(const TextureMap& t, const NormalMap& n, const ColorMap& c)
       : texture_map(t), normal_map(n), color_map(c) {}
 
   /// The values of the given maps on the template's vertices (those of `tm`), extended to the
-  /// added vertices of `result`; normals normalised.
+  /// added vertices of `result`; normals normalised (normalise_added_normals).
   /// \throws Invalid_input when a template value is not finite.
   template <typename TriangleMesh>
   void extend(const TriangleMesh& tm, const Mesh_data& result) {
@@ -183,32 +225,15 @@ struct Carried_attributes {
     uvs = extended_attribute<Texture_channels>(texture_map, template_vertices, adjacency);
     normals = extended_attribute<Normal_channels>(normal_map, template_vertices, adjacency);
     colors = extended_attribute<Color_channels>(color_map, template_vertices, adjacency);
-    // Normalised; a normal that the mean cancels out is taken from the result's geometry (write).
-    geometric_normal.assign(normals.size(), false);
-    for (std::size_t k = template_count; k < normals.size(); ++k) {
-      const double len =
-          std::sqrt(normals[k][0] * normals[k][0] + normals[k][1] * normals[k][1] + normals[k][2] * normals[k][2]);
-      if (len > 1e-9)
-        for (double& c : normals[k]) c /= len;
-      else
-        geometric_normal[k] = true;
-    }
+    normalise_added_normals(normals, template_count, result);
   }
 
-  /// Puts the added vertices' values, `vertex_of[k]` being the result's vertex k in `tm`, which
-  /// holds the result; `tm_np` are the named parameters of PMP::compute_vertex_normal on `tm`.
-  template <typename TriangleMesh, typename VertexRange, typename TmParameters>
-  void write(TriangleMesh& tm, const VertexRange& vertex_of, const TmParameters& tm_np) {
+  /// Puts the added vertices' values, `vertex_of[k]` being the result's vertex k.
+  template <typename VertexRange>
+  void write(const VertexRange& vertex_of) const {
     put_extended_attribute<Texture_channels>(texture_map, vertex_of, template_count, uvs);
     put_extended_attribute<Color_channels>(color_map, vertex_of, template_count, colors);
-    if constexpr (is_given_v<NormalMap>) {
-      for (std::size_t k = template_count; k < normals.size(); ++k)
-        if (geometric_normal[k]) {
-          const auto n = CGAL::Polygon_mesh_processing::compute_vertex_normal(vertex_of[k], tm, tm_np);
-          normals[k] = {double(n.x()), double(n.y()), double(n.z())};
-        }
-      put_extended_attribute<Normal_channels>(normal_map, vertex_of, template_count, normals);
-    }
+    put_extended_attribute<Normal_channels>(normal_map, vertex_of, template_count, normals);
   }
 };
 
