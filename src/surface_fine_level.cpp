@@ -18,6 +18,7 @@
 #include <chrono>
 #include <limits>
 #include <map>
+#include <optional>
 #include <queue>
 #include <set>
 #include <sstream>
@@ -233,6 +234,7 @@ class Surface_fine_level {
   std::vector<bool> reserved;        // mesh vertices taken by a network vertex
   std::vector<double> distance;      // network vertex -> its distance from the coarse surface
   std::vector<Point_3> surface_point;
+  std::optional<Tree> coarse_tree;  // of the faces at the time: step 1 builds it, its passes rebuild it
   std::vector<bool> on_border;  // network vertices placed on the template's border
   std::vector<halfedge_descriptor> border;
   std::vector<bool> is_network_vertex, on_chain;  // by mesh vertex
@@ -286,19 +288,17 @@ void Surface_fine_level::project_network() {
   report_progress(options.progress, "deform", "fine: placing the network vertices on the surface", 0, 4);
   template_vertices = s.vertex.size();
   distance.assign(nv, 0);
-  {
-    Tree tree(faces(tm).first, faces(tm).second, tm, vpm);
-    tree.accelerate_distance_queries();
-    surface_point = tracked_projections(tm, vpm, tree, network, pairs, report.projections_off_nearest);
-    // A polyline all of whose points are far from the surface cannot be embedded in it: say so
-    // now, rather than after a long run.
-    const double diag = bbox_diagonal(tm, vpm);
-    for (std::size_t v = 0; v < nv; ++v) {
-      distance[v] = std::sqrt(CGAL::squared_distance(tree.closest_point(network.point(v)), network.point(v)));
-      report.largest_projection_distance = std::max(report.largest_projection_distance, distance[v]);
-    }
-    refuse_far_polylines(network, [&](std::size_t v) { return distance[v]; }, diag);
+  coarse_tree.emplace(faces(tm).first, faces(tm).second, tm, vpm);
+  coarse_tree->accelerate_distance_queries();
+  surface_point = tracked_projections(tm, vpm, *coarse_tree, network, pairs, report.projections_off_nearest);
+  // A polyline all of whose points are far from the surface cannot be embedded in it: say so
+  // now, rather than after a long run.
+  const double diag = bbox_diagonal(tm, vpm);
+  for (std::size_t v = 0; v < nv; ++v) {
+    distance[v] = std::sqrt(CGAL::squared_distance(coarse_tree->closest_point(network.point(v)), network.point(v)));
+    report.largest_projection_distance = std::max(report.largest_projection_distance, distance[v]);
   }
+  refuse_far_polylines(network, [&](std::size_t v) { return distance[v]; }, diag);
 }
 
 Surface_fine_level::Border_point Surface_fine_level::nearest_border_point(const Point_3& p) const {
@@ -380,8 +380,14 @@ void Surface_fine_level::place_inner_vertices() {
   for (std::size_t v = 0; v < nv; ++v)
     if (mesh_of[v] == unassigned) waiting.push_back(v);
   for (std::size_t pass = 0; !waiting.empty(); ++pass) {
-    Tree tree(faces(tm).first, faces(tm).second, tm, vpm);
-    tree.accelerate_distance_queries();
+    // The coarse surface's tree serves the first pass when no border vertex split an edge since
+    // (the faces are those it was built on); later passes search the mesh as the last one left it.
+    if (pass > 0 || s.vertex.size() != template_vertices) {
+      coarse_tree.reset();
+      coarse_tree.emplace(faces(tm).first, faces(tm).second, tm, vpm);
+      coarse_tree->accelerate_distance_queries();
+    }
+    const Tree& tree = *coarse_tree;
     // One network vertex per face and pass, in the order of the network vertices (not of the
     // face handles, which on a Polyhedron_3 are addresses): the result does not depend on memory.
     std::set<face_descriptor> taken;
@@ -402,6 +408,7 @@ void Surface_fine_level::place_inner_vertices() {
     }
     waiting.swap(later);
   }
+  coarse_tree.reset();
   report.vertices_inserted_for_density = s.vertex.size() - template_vertices;
   report.faces_subdivided = s.faces_split;
 }
