@@ -1,9 +1,12 @@
 #include <meshfit/flip.h>
+#include <meshfit/predicates.h>
 
 #include "test_helpers.h"
 
 #include <CGAL/Exact_rational.h>
+#include <CGAL/Surface_mesh.h>
 
+#include <cmath>
 #include <iomanip>
 #include <random>
 
@@ -135,4 +138,23 @@ TEST_CASE("flip: orientation in a plane is exact near degeneracy (filter and exa
   }
   CHECK(positive > 1000);
   CHECK(negative > 1000);
+}
+
+TEST_CASE("predicates: edge_folds says whether two faces across an edge turn more than 90 degrees apart", "[flip]") {
+  // Faces (0 1 2) and (1 0 3) share the edge 0-1 on the x axis; face (0 1 2) lies in the plane
+  // z = 0 with corner 2 at +y. Corner 3 turns about the x axis by `angle` from -y (flat, 0) up
+  // towards +y; the faces' normals are then `angle` apart. The oracle is that angle.
+  for (const double degrees : {0.0, 30.0, 60.0, 85.0, 95.0, 120.0, 175.0}) {
+    CGAL::Surface_mesh<Point_3> tm;
+    const double a = degrees * 3.14159265358979323846 / 180;
+    const auto v0 = tm.add_vertex(Point_3(0, 0, 0)), v1 = tm.add_vertex(Point_3(1, 0, 0));
+    const auto v2 = tm.add_vertex(Point_3(0.5, 1, 0)), v3 = tm.add_vertex(Point_3(0.5, -std::cos(a), std::sin(a)));
+    const auto f = tm.add_face(v0, v1, v2);
+    REQUIRE(f != tm.null_face());
+    REQUIRE(tm.add_face(v1, v0, v3) != tm.null_face());
+    const auto h = tm.halfedge(v0, v1);
+    REQUIRE(tm.face(h) == f);
+    INFO(degrees << " degrees");
+    CHECK(meshfit::edge_folds(tm, h, [&](auto v) { return tm.point(v); }) == (degrees > 90));
+  }
 }
