@@ -234,7 +234,7 @@ class Surface_fine_level {
   std::vector<bool> reserved;        // mesh vertices taken by a network vertex
   std::vector<double> distance;      // network vertex -> its distance from the coarse surface
   std::vector<Point_3> surface_point;
-  std::optional<Tree> coarse_tree;  // of the faces at the time: step 1 builds it, its passes rebuild it
+  std::optional<Tree> coarse_tree;  // built by project_network, rebuilt by place_inner_vertices's later passes
   std::vector<bool> on_border;  // network vertices placed on the template's border
   std::vector<halfedge_descriptor> border;
   std::vector<bool> is_network_vertex, on_chain;  // by mesh vertex
@@ -383,7 +383,6 @@ void Surface_fine_level::place_inner_vertices() {
     // The coarse surface's tree serves the first pass when no border vertex split an edge since
     // (the faces are those it was built on); later passes search the mesh as the last one left it.
     if (pass > 0 || s.vertex.size() != template_vertices) {
-      coarse_tree.reset();
       coarse_tree.emplace(faces(tm).first, faces(tm).second, tm, vpm);
       coarse_tree->accelerate_distance_queries();
     }

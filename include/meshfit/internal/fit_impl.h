@@ -1,6 +1,5 @@
-// fit_template_to_curves's internals (fit.h): its options resolved from the named parameters,
-// the named parameters of the CGAL calls on the caller's mesh, and the compiled core (src/fit.cpp)
-// that runs the stages and the verification.
+// fit_template_to_curves's internals (fit.h): its options resolved from the named parameters, and
+// the compiled core (src/fit.cpp) that runs the stages and the verification.
 #ifndef MESHFIT_INTERNAL_FIT_IMPL_H
 #define MESHFIT_INTERNAL_FIT_IMPL_H
 
