@@ -163,6 +163,41 @@ std::vector<Vector_3> interpolate_displacements(const Vertex_adjacency& adj, con
   return d;
 }
 
+std::vector<bool> vertices_within_reach(const Vertex_adjacency& adj, const std::vector<bool>& constrained,
+                                        const std::vector<Vector_3>& given, double edge, std::size_t rings,
+                                        double fade) {
+  const std::size_t n = adj.size();
+  if (constrained.size() != n || given.size() != n)
+    throw Invalid_input("displacement: " + std::to_string(n) + " vertices but " + std::to_string(constrained.size()) +
+                        " constraint flags and " + std::to_string(given.size()) + " displacements");
+  if (!(edge > 0)) throw Invalid_input("displacement: the edge length must be positive, not " + internal::format_number(edge));
+  // A breadth-first search carrying the most rings left, in buckets by rings left.
+  std::vector<std::ptrdiff_t> rings_left(n, -1);
+  std::vector<std::vector<std::size_t>> by_rings_left;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!constrained[i]) continue;
+    const double r = std::ceil(fade * std::sqrt(given[i].squared_length()) / edge);
+    const std::size_t ri = r < static_cast<double>(n) ? std::max(rings, static_cast<std::size_t>(r)) : n;
+    rings_left[i] = static_cast<std::ptrdiff_t>(ri);
+    if (by_rings_left.size() <= ri) by_rings_left.resize(ri + 1);
+    by_rings_left[ri].push_back(i);
+  }
+  for (std::size_t r = by_rings_left.size(); r-- > 1;)
+    for (std::size_t i : by_rings_left[r]) {
+      if (rings_left[i] != static_cast<std::ptrdiff_t>(r)) continue;  // reached with more since
+      for (std::size_t k = adj.offsets[i]; k < adj.offsets[i + 1]; ++k) {
+        const std::size_t j = adj.neighbours[k];
+        if (rings_left[j] + 1 < static_cast<std::ptrdiff_t>(r)) {
+          rings_left[j] = static_cast<std::ptrdiff_t>(r) - 1;
+          by_rings_left[r - 1].push_back(j);
+        }
+      }
+    }
+  std::vector<bool> in(n);
+  for (std::size_t i = 0; i < n; ++i) in[i] = rings_left[i] >= 0;
+  return in;
+}
+
 std::vector<Vector_3> fit_displacements(const Vertex_adjacency& adj, const std::vector<Soft_displacement>& constraints,
                                         double stiffness) {
   internal::Fp_trap_scope traps;

@@ -3,6 +3,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 
 using meshfit::Vector_3;
@@ -136,4 +137,47 @@ TEST_CASE("displacement: fit_displacements leaves unconstrained parts still and 
   CHECK_THROWS_AS(meshfit::fit_displacements(a, c, 1), meshfit::Invalid_input);
   c.back() = {{0, 1, 1}, {0.2, 0.3, 0.5}, Vector_3(0, 0, 0), -1};
   CHECK_THROWS_AS(meshfit::fit_displacements(a, c, 1), meshfit::Invalid_input);
+}
+
+// The band of deform_fine_on_surface's step 3: on the grid graph the vertices k edges away are
+// those at Manhattan distance k, the oracle here.
+TEST_CASE("displacement: vertices_within_reach reaches max(rings, ceil(fade |d| / edge)) edges from each held vertex",
+          "[displacement]") {
+  const std::size_t n = 30;
+  const Vertex_adjacency a = grid_graph(n);
+  std::vector<bool> held(n * n, false);
+  std::vector<Vector_3> given(n * n, Vector_3(0, 0, 0));
+  struct Held {
+    std::size_t i, j;
+    Vector_3 d;
+    std::size_t reach;
+  };
+  // Edge 2, fade 10: motion 0.1 reaches max(4, 1) = 4; 1.5 reaches 8 (6 and 8 in x and z); 0 reaches 4.
+  const std::vector<Held> hs{{5, 5, Vector_3(0.1, 0, 0), 4}, {20, 20, Vector_3(0.9, 0, 1.2), 8}, {2, 27, Vector_3(0, 0, 0), 4}};
+  for (const Held& h : hs) held[h.j * n + h.i] = true, given[h.j * n + h.i] = h.d;
+  const std::vector<bool> in = meshfit::vertices_within_reach(a, held, given, 2.0, 4, 10.0);
+  std::size_t reached = 0;
+  for (std::size_t j = 0; j < n; ++j)
+    for (std::size_t i = 0; i < n; ++i) {
+      bool expected = false;
+      for (const Held& h : hs)
+        expected = expected || (i > h.i ? i - h.i : h.i - i) + (j > h.j ? j - h.j : h.j - j) <= h.reach;
+      CHECK(in[j * n + i] == expected);
+      reached += expected;
+    }
+  CHECK(reached == 41 + 145 + 33);  // diamonds of radius 4 and 8, the third cut by the grid's edges
+
+  // No rings: a still vertex reaches itself only, a moving one at least its neighbours. A motion
+  // that is not finite reaches every vertex.
+  const std::vector<bool> alone =
+      meshfit::vertices_within_reach(a, held, std::vector<Vector_3>(n * n, Vector_3(0, 0, 0)), 1e9, 0, 10.0);
+  CHECK(std::count(alone.begin(), alone.end(), true) == 3);
+  const std::vector<bool> near = meshfit::vertices_within_reach(a, held, given, 1e9, 0, 10.0);
+  CHECK(std::count(near.begin(), near.end(), true) == 5 + 5 + 1);
+  given[5 * n + 5] = Vector_3(std::nan(""), 0, 0);
+  const std::vector<bool> all = meshfit::vertices_within_reach(a, held, given, 2.0, 4, 10.0);
+  CHECK(std::count(all.begin(), all.end(), true) == static_cast<std::ptrdiff_t>(n * n));
+
+  CHECK_THROWS_AS(meshfit::vertices_within_reach(a, held, given, 0.0, 4, 10.0), meshfit::Invalid_input);
+  CHECK_THROWS_AS(meshfit::vertices_within_reach(a, std::vector<bool>(3), given, 1.0, 4, 10.0), meshfit::Invalid_input);
 }

@@ -430,7 +430,10 @@ Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
 ///      its midpoint, so that every face keeps a free corner;
 ///   3. the network vertices are moved onto their points, the inner vertices of each chain onto
 ///      the segment, and every other vertex by the thin-plate displacement field through those
-///      motions (interpolate_displacements); when that leaves faces turned over or folded, the
+///      motions (interpolate_displacements), solved in a band along the curves with the vertices
+///      beyond it held (each held vertex reaches the larger of 4 rings and 10 times its motion
+///      over the mean edge; the whole mesh when the band would hold at least half the free
+///      vertices; `report.displacement.held_beyond_band`); when that leaves faces turned over or folded, the
 ///      motion is made again in four equal parts, with step 4a's untangling after each;
 ///   4. faces that turn over against the coarse surface's normals, or fold with a neighbour,
 ///      are repaired: the free vertices around them are relaxed towards their neighbours' mean

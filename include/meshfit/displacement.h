@@ -7,8 +7,8 @@
 // The Laplacian is the uniform (graph) one, Δd_i = mean of d_j over the neighbours j of i, minus
 // d_i: its weights are positive on every mesh, so the membrane solution is a convex combination
 // of the given displacements at every free vertex (a discrete maximum principle) and cannot
-// overshoot them. The sparse system on the free vertices is solved by Eigen's sparse Cholesky
-// (SimplicialLDLT); its size grows like the mesh, not like the number of constraints.
+// overshoot them. The sparse system on the free vertices is solved by CHOLMOD's supernodal
+// Cholesky factorisation; its size grows like the mesh, not like the number of constraints.
 #ifndef MESHFIT_DISPLACEMENT_H
 #define MESHFIT_DISPLACEMENT_H
 
@@ -37,6 +37,9 @@ struct Displacement_report {
   /// Free vertices in a connected part of the mesh with no constrained vertex: they keep a zero
   /// displacement.
   std::size_t unconstrained_free_vertices = 0;
+  /// Set by deform_fine_on_surface: vertices it held in place beyond the band along the curves
+  /// where it solved (counted apart from `constrained_vertices`).
+  std::size_t held_beyond_band = 0;
 };
 
 /// The displacement of every vertex: `given[i]` where `constrained[i]`, and the minimiser of the
@@ -46,6 +49,16 @@ struct Displacement_report {
 std::vector<Vector_3> interpolate_displacements(const Vertex_adjacency& adjacency, const std::vector<bool>& constrained,
                                                 const std::vector<Vector_3>& given, int order = 2,
                                                 Displacement_report* report = nullptr);
+
+/// The vertices within reach of a constrained vertex, each constrained vertex i reaching the
+/// larger of `rings` and ⌈`fade` ‖given[i]‖ / `edge`⌉ edges out (edges of `adjacency`; a
+/// displacement too large to count, or not finite, reaches every vertex). A thin-plate field
+/// through small motions, held at zero beyond them, fades from each motion to nothing over at
+/// least `fade` times its length (deform_fine_on_surface, step 3).
+/// \throws Invalid_input when the sizes differ or `edge` is not positive.
+std::vector<bool> vertices_within_reach(const Vertex_adjacency& adjacency, const std::vector<bool>& constrained,
+                                        const std::vector<Vector_3>& given, double edge, std::size_t rings,
+                                        double fade);
 
 /// A soft constraint of fit_displacements: the displacement at a point of a face (its corners'
 /// displacements weighted by the point's barycentric coordinates) should be `target`.

@@ -774,6 +774,7 @@ Json json_fine_level(const meshfit::Deformation_report& r) {
     j["edges_split_between_curves"] = r.edges_split_between_curves;
     j["projections_off_nearest"] = r.projections_off_nearest;
     j["displacement_free_vertices"] = r.displacement.free_vertices;
+    j["displacement_held_beyond_band"] = r.displacement.held_beyond_band;
     j["untangle_rounds"] = r.untangle_rounds;
     j["untangled_vertices"] = r.untangled_vertices;
     j["remaining_folds"] = r.remaining_folds;
