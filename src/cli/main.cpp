@@ -38,6 +38,7 @@
 #include <cerrno>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <map>
 #include <new>
@@ -1497,9 +1498,48 @@ int run_fit(const Command_line& cl) {
   return success;
 }
 
+#if defined(__linux__) && defined(__GLIBC__) && !defined(__SANITIZE_ADDRESS__)
+// Transparent huge pages for the heap. A fit walks arrays of hundreds of megabytes (sparse
+// factors, per-vertex state); in 4 KiB pages every first touch is a page fault and the walks
+// miss the TLB. glibc puts its heap in huge pages when the tunable glibc.malloc.hugetlb is 1
+// (glibc 2.35 on, where the kernel allows them on request: transparent_hugepage "madvise" or
+// "always"), and tunables are read only when a program starts: the command starts itself again
+// with the tunable added, once, and the re-started command puts the caller's GLIBC_TUNABLES back
+// so that nothing it runs inherits the change. bench/scale (two runs each): 327 680 faces 10.9 s
+// -> 9.6 s, 155 000 page faults -> 2 700; 1 310 720 faces 60.2 s -> 46.5 s (user time 64 s ->
+// 48 s), peak memory within 0.5 %.
+constexpr const char* tunables_before = "MESHFIT_GLIBC_TUNABLES_BEFORE";
+
+void restart_with_huge_pages(char** argv) {
+  if (const char* before = std::getenv(tunables_before)) {  // the restarted command
+    const std::string was = before;
+    if (was.empty()) unsetenv("GLIBC_TUNABLES");
+    else setenv("GLIBC_TUNABLES", was.c_str() + 1, 1);
+    unsetenv(tunables_before);
+    return;
+  }
+  const char* tunables = std::getenv("GLIBC_TUNABLES");
+  if (tunables && std::string(tunables).find("glibc.malloc.hugetlb") != std::string::npos) return;
+  std::ifstream thp("/sys/kernel/mm/transparent_hugepage/enabled");
+  std::string modes;
+  if (!std::getline(thp, modes) || modes.find("[never]") != std::string::npos) return;
+  // "" when there was none, "=" and the value when there was.
+  setenv(tunables_before, tunables ? (std::string("=") + tunables).c_str() : "", 1);
+  setenv("GLIBC_TUNABLES", tunables ? (std::string(tunables) + ":glibc.malloc.hugetlb=1").c_str() : "glibc.malloc.hugetlb=1", 1);
+  execv("/proc/self/exe", argv);
+  // Not restarted: go on as before.
+  unsetenv(tunables_before);
+  if (tunables) setenv("GLIBC_TUNABLES", tunables, 1);
+  else unsetenv("GLIBC_TUNABLES");
+}
+#endif
+
 }  // namespace
 
 int main(int argc, char** argv) {
+#if defined(__linux__) && defined(__GLIBC__) && !defined(__SANITIZE_ADDRESS__)
+  restart_with_huge_pages(argv);
+#endif
 #if defined(__GLIBC__)
   // A fit allocates and frees arrays of many megabytes step after step (sparse systems, per-vertex
   // state). glibc serves each from fresh mmap pages and unmaps it when it is freed, so every step
