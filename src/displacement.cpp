@@ -42,6 +42,13 @@ Eigen::MatrixXd solve_definite(const Sparse& A, const Eigen::MatrixXd& rhs, cons
   return x;
 }
 
+// One constraint flag and one displacement per vertex.
+void check_sizes(std::size_t n, const std::vector<bool>& constrained, const std::vector<Vector_3>& given) {
+  if (constrained.size() != n || given.size() != n)
+    throw Invalid_input("displacement: " + std::to_string(n) + " vertices but " + std::to_string(constrained.size()) +
+                        " constraint flags and " + std::to_string(given.size()) + " displacements");
+}
+
 // K = D − A, the symmetric graph Laplacian of the adjacency, and D⁻¹ (0 for an isolated vertex).
 Sparse graph_laplacian(const Vertex_adjacency& adj, Eigen::VectorXd& inverse_degree) {
   const std::size_t n = adj.size();
@@ -96,9 +103,7 @@ std::vector<Vector_3> interpolate_displacements(const Vertex_adjacency& adj, con
                                                 Displacement_report* report) {
   internal::Fp_trap_scope traps;
   const std::size_t n = adj.size();
-  if (constrained.size() != n || given.size() != n)
-    throw Invalid_input("displacement: " + std::to_string(n) + " vertices but " + std::to_string(constrained.size()) +
-                        " constraint flags and " + std::to_string(given.size()) + " displacements");
+  check_sizes(n, constrained, given);
   if (order != 1 && order != 2) throw Invalid_input("displacement: order must be 1 or 2, not " + std::to_string(order));
   for (std::size_t i = 0; i < n; ++i)
     if (constrained[i] && !(std::isfinite(given[i].x()) && std::isfinite(given[i].y()) && std::isfinite(given[i].z())))
@@ -167,9 +172,7 @@ std::vector<bool> vertices_within_reach(const Vertex_adjacency& adj, const std::
                                         const std::vector<Vector_3>& given, double edge, std::size_t rings,
                                         double fade) {
   const std::size_t n = adj.size();
-  if (constrained.size() != n || given.size() != n)
-    throw Invalid_input("displacement: " + std::to_string(n) + " vertices but " + std::to_string(constrained.size()) +
-                        " constraint flags and " + std::to_string(given.size()) + " displacements");
+  check_sizes(n, constrained, given);
   if (!(edge > 0)) throw Invalid_input("displacement: the edge length must be positive, not " + internal::format_number(edge));
   // A breadth-first search carrying the most rings left, in buckets by rings left.
   std::vector<std::ptrdiff_t> rings_left(n, -1);

@@ -15,8 +15,8 @@
 #include <CGAL/boost/graph/Euler_operations.h>
 
 #include <algorithm>
-#include <cmath>
 #include <chrono>
+#include <cmath>
 #include <limits>
 #include <map>
 #include <optional>
