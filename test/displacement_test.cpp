@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <utility>
 
 using meshfit::Vector_3;
 using meshfit::Vertex_adjacency;
@@ -180,4 +182,124 @@ TEST_CASE("displacement: vertices_within_reach reaches max(rings, ceil(fade |d| 
 
   CHECK_THROWS_AS(meshfit::vertices_within_reach(a, held, given, 0.0, 4, 10.0), meshfit::Invalid_input);
   CHECK_THROWS_AS(meshfit::vertices_within_reach(a, std::vector<bool>(3), given, 1.0, 4, 10.0), meshfit::Invalid_input);
+}
+
+namespace {
+
+// A triangulated n × n grid (each square cut along its rising diagonal: 6 neighbours inside) on
+// the plane through `origin` spanned by the orthonormal u, v, with spacing h; its points.
+Vertex_adjacency triangulated_grid(std::size_t n, const meshfit::Point_3& origin, const Vector_3& u, const Vector_3& v,
+                                   double h, std::vector<meshfit::Point_3>& points) {
+  Vertex_adjacency a;
+  points.clear();
+  const int m = static_cast<int>(n);
+  for (int j = 0; j < m; ++j)
+    for (int i = 0; i < m; ++i) {
+      for (const auto& [di, dj] : {std::pair{-1, 0}, {1, 0}, {0, -1}, {0, 1}, {1, 1}, {-1, -1}}) {
+        const int x = i + di, y = j + dj;
+        if (x >= 0 && x < m && y >= 0 && y < m) a.neighbours.push_back(static_cast<std::size_t>(y * m + x));
+      }
+      a.offsets.push_back(a.neighbours.size());
+      points.push_back(origin + (h * i) * u + (h * j) * v);
+    }
+  return a;
+}
+
+}  // namespace
+
+// The oracle: a linear function evaluated at the nodes' points and interpolated, against its value.
+TEST_CASE("displacement: a coarse space sums to one, reproduces linear fields along the surface and follows placement",
+          "[displacement]") {
+  const std::size_t n = 40;
+  const Vector_3 u = Vector_3(2, 1, 2) / 3, v = Vector_3(-1, 2, 0) / std::sqrt(5.0);
+  std::vector<meshfit::Point_3> p;
+  const Vertex_adjacency a = triangulated_grid(n, meshfit::Point_3(3, -1, 2), u, v, 0.1, p);
+  const Vector_3 normal = CGAL::cross_product(u, v);
+  const meshfit::Coarse_space cs = meshfit::coarse_space(a, p, std::vector<Vector_3>(p.size(), normal), 2);
+  CHECK(cs.nodes == cs.seed.size());
+  CHECK(cs.nodes > p.size() / 40);
+  CHECK(cs.nodes < p.size() / 10);  // aggregates of two rings: about 19 vertices each inside
+  auto g = [&](const meshfit::Point_3& x) { return 1.5 * x.x() - 2 * x.y() + 0.25 * x.z() + 7; };
+  double worst_sum = 0, worst_linear = 0;
+  std::size_t widest = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    double sum = 0, value = 0;
+    for (std::size_t k = cs.offsets[i]; k < cs.offsets[i + 1]; ++k) {
+      sum += cs.weight[k];
+      value += cs.weight[k] * g(p[cs.seed[cs.node[k]]]);
+      // A vertex interpolates nodes near it: up to two aggregates away (2 rings each).
+      CHECK(std::sqrt(CGAL::squared_distance(p[i], p[cs.seed[cs.node[k]]])) < 15 * 0.1);
+    }
+    widest = std::max(widest, cs.offsets[i + 1] - cs.offsets[i]);
+    worst_sum = std::max(worst_sum, std::abs(sum - 1));
+    worst_linear = std::max(worst_linear, std::abs(value - g(p[i])));
+  }
+  CHECK(worst_sum < 1e-12);
+  CHECK(worst_linear < 1e-11);
+  CHECK(widest <= 25);
+  CHECK(cs.node.size() <= 12 * p.size());
+  // Turned, scaled by 1000 and moved: the same space (the weights to 1e-9).
+  const CGAL::Aff_transformation_3<meshfit::Kernel> turn(0, -1, 0, 1, 0, 0, 0, 0, 1);
+  std::vector<meshfit::Point_3> q;
+  for (const auto& x : p) q.push_back(meshfit::Point_3(1e6, -5e5, 2e5) + 1000 * (turn(x) - CGAL::ORIGIN));
+  const meshfit::Coarse_space moved = meshfit::coarse_space(a, q, std::vector<Vector_3>(q.size(), turn(normal)), 2);
+  // (A node at exactly its reach may weigh 0 or 1e-40 on a vertex, depending on rounding.)
+  REQUIRE(moved.seed == cs.seed);
+  double worst_moved = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    std::map<std::size_t, double> row;
+    for (std::size_t k = cs.offsets[i]; k < cs.offsets[i + 1]; ++k) row[cs.node[k]] += cs.weight[k];
+    for (std::size_t k = moved.offsets[i]; k < moved.offsets[i + 1]; ++k) row[moved.node[k]] -= moved.weight[k];
+    for (const auto& [node, difference] : row) worst_moved = std::max(worst_moved, std::abs(difference));
+  }
+  CHECK(worst_moved < 1e-9);
+  // Bad input.
+  CHECK_THROWS_AS(meshfit::coarse_space(a, p, std::vector<Vector_3>(3, normal), 2), meshfit::Invalid_input);
+  CHECK_THROWS_AS(meshfit::coarse_space(a, p, std::vector<Vector_3>(p.size(), normal), 0), meshfit::Invalid_input);
+  const Vertex_adjacency small = grid_graph(4);
+  CHECK_THROWS_AS(meshfit::fit_displacements(small, {}, 1, &cs), meshfit::Invalid_input);
+}
+
+// The oracle: the whole mesh's solve of the same least-squares problem. The two differ most at
+// the grid's border, beyond the targets, where the thin-plate field is least determined.
+TEST_CASE("displacement: fit_displacements in a coarse space comes close to the whole mesh's solve", "[displacement]") {
+  const std::size_t n = 60;
+  std::vector<meshfit::Point_3> p;
+  const Vertex_adjacency a = triangulated_grid(n, meshfit::Point_3(0, 0, 0), Vector_3(1, 0, 0), Vector_3(0, 1, 0), 1, p);
+  const meshfit::Coarse_space cs = meshfit::coarse_space(a, p, std::vector<Vector_3>(p.size(), Vector_3(0, 0, 1)), 2);
+  // A smooth field asked for along five lines of the grid (as curves would), a target at the
+  // middle of every third edge along them.
+  auto field = [](const meshfit::Point_3& x) {
+    return Vector_3(std::sin(x.x() / 15), std::cos(x.y() / 12), 0.0005 * x.x() * x.y());
+  };
+  using meshfit::Soft_displacement;
+  std::vector<Soft_displacement> c;
+  for (std::size_t line : {5, 17, 30, 42, 54})
+    for (std::size_t i = 0; i + 1 < n; i += 3) {
+      const std::size_t k = line * n + i;
+      c.push_back({{k, k + 1, k}, {0.5, 0.5, 0}, field(CGAL::midpoint(p[k], p[k + 1])), 1});
+    }
+  auto largest_miss = [&](const std::vector<Vector_3>& d) {
+    double miss = 0;
+    for (const Soft_displacement& s : c)
+      miss = std::max(miss, std::sqrt((0.5 * (d[s.corners[0]] + d[s.corners[1]]) - s.target).squared_length()));
+    return miss;
+  };
+  for (double stiffness : {10.0, 0.1}) {
+    const auto fine = meshfit::fit_displacements(a, c, stiffness);
+    const auto coarse = meshfit::fit_displacements(a, c, stiffness, &cs);
+    double largest = 0, inner = 0, squares = 0, off_squares = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      const double off = std::sqrt((coarse[i] - fine[i]).squared_length());
+      largest = std::max(largest, std::sqrt(fine[i].squared_length()));
+      squares += fine[i].squared_length(), off_squares += off * off;
+      if (i % n >= 10 && i % n < n - 10 && i / n >= 10 && i / n < n - 10) inner = std::max(inner, off);
+    }
+    const double miss = largest_miss(coarse), fine_miss = largest_miss(fine);
+    INFO("stiffness " << stiffness << ": largest " << largest << ", off by " << inner << " inside, "
+                      << std::sqrt(off_squares / squares) << " in mean square; misses " << miss << " (whole: " << fine_miss << ")");
+    CHECK(std::sqrt(off_squares / squares) < 0.06);
+    CHECK(inner < 0.1 * largest);
+    CHECK(miss < fine_miss + 0.1 * largest);
+  }
 }

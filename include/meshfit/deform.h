@@ -416,7 +416,8 @@ Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
 ///      least-squares steps of falling stiffness, each asking that the point of the surface
 ///      tracked for every network vertex move onto it against the thin-plate energy of the
 ///      motion, each untangled, halved while it leaves a face turned over or a new fold, and
-///      the last that cannot be made ending the approach);
+///      the last that cannot be made ending the approach; on 20 000 vertices or more, each
+///      step is solved in a coarse space of about a sixteenth of the vertices, coarse_space);
 ///   1. every network vertex gets a mesh vertex at (or near) its point on the surface, tracked
 ///      along the curves from the user's pairs (internal::tracked_projections); the vertices of
 ///      curves running along the border go onto the border (a curve runs along it when its
