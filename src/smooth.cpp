@@ -572,17 +572,20 @@ class Flow_run {
     // Compared squared and without division, so that an unmoved face always passes.
     const double e0 = cur_frame[f].e2, e1 = next_frame[f].e2;
     if (!(l1 * (e0 * e0) >= std::min(l0, needle_shape * needle_shape * (e0 * e0)) * (e1 * e1))) return true;
-    const V3 na = load(next.data(), tri[0]), nb = load(next.data(), tri[1]), nc = load(next.data(), tri[2]);
+    // The moved triangle's points, read only when a filter below is unsure.
+    auto moved = [&] {
+      const V3 na = load(next.data(), tri[0]), nb = load(next.data(), tri[1]), nc = load(next.data(), tri[2]);
+      return Triangle_points{Point_3(na.x, na.y, na.z), Point_3(nb.x, nb.y, nb.z), Point_3(nc.x, nc.y, nc.z)};
+    };
     // The filter: a normal turning by less than about 89.9° (cos > 1e-3) is kept; otherwise the
     // exact orientation of the moved triangle in the plane of the old one decides. Judged
     // against the previous iteration and against the positions at the call: small turns add
     // up over iterations, and the promise is that no face is reversed with respect to the input.
-    const Triangle_points after{Point_3(na.x, na.y, na.z), Point_3(nb.x, nb.y, nb.z), Point_3(nc.x, nc.y, nc.z)};
     const double d0 = dot(n0, n1);
     if (!(d0 > 0 && d0 * d0 > 1e-6 * l0 * l1)) {
       const V3 a = load(P, tri[0]), b = load(P, tri[1]), c = load(P, tri[2]);
       const Triangle_points before{Point_3(a.x, a.y, a.z), Point_3(b.x, b.y, b.z), Point_3(c.x, c.y, c.z)};
-      if (orientation_flip_test(before, after) != Flip_state::kept) return true;
+      if (orientation_flip_test(before, moved()) != Flip_state::kept) return true;
     }
     const V3 ni = load(initial_normal.data(), f);
     const double di = dot(ni, n1);
@@ -590,7 +593,7 @@ class Flow_run {
     if (li > 0 && !(di > 0 && di * di > 1e-6 * li * l1)) {
       const V3 ia = load(oriented.data(), tri[0]), ib = load(oriented.data(), tri[1]), ic = load(oriented.data(), tri[2]);
       const Triangle_points initial{Point_3(ia.x, ia.y, ia.z), Point_3(ib.x, ib.y, ib.z), Point_3(ic.x, ic.y, ic.z)};
-      if (orientation_flip_test(initial, after) != Flip_state::kept) return true;
+      if (orientation_flip_test(initial, moved()) != Flip_state::kept) return true;
     }
     // Nor may it fold over a neighbour: two faces sharing an edge that turn more than 90 degrees
     // apart, when they did not at the call (each face alone can turn less than 90 degrees and
@@ -606,7 +609,7 @@ class Flow_run {
       const auto& gt = m.triangles[g];
       const V3 ga = load(next.data(), gt[0]), gb = load(next.data(), gt[1]), gc = load(next.data(), gt[2]);
       const Triangle_points other{Point_3(ga.x, ga.y, ga.z), Point_3(gb.x, gb.y, gb.z), Point_3(gc.x, gc.y, gc.z)};
-      if (orientation_in_plane(after, other[0], other[1], other[2]) == CGAL::POSITIVE) continue;
+      if (orientation_in_plane(moved(), other[0], other[1], other[2]) == CGAL::POSITIVE) continue;
       const V3 ia = load(oriented.data(), tri[0]), ib = load(oriented.data(), tri[1]), ic = load(oriented.data(), tri[2]);
       const V3 ja = load(oriented.data(), gt[0]), jb = load(oriented.data(), gt[1]), jc = load(oriented.data(), gt[2]);
       const Triangle_points initial{Point_3(ia.x, ia.y, ia.z), Point_3(ib.x, ib.y, ib.z), Point_3(ic.x, ic.y, ic.z)};
