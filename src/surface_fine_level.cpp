@@ -985,20 +985,28 @@ void Surface_fine_level::flip_slivers() {
     return internal::smallest_angle(after[c[0]], after[c[1]], after[c[2]]);
   };
   const double sliver = 5 * CGAL_PI / 180;
+  // Which faces are slivers, kept up to date through the flips (the points do not move here, so
+  // only a flip changes a face): an edge with no sliver beside it is passed over without
+  // measuring its faces again (1.3 million faces: 4 million angle measures a pass, now 1.3).
+  auto thin = get(CGAL::dynamic_face_property_t<bool>(), tm);
+  auto mark = [&](halfedge_descriptor h) { put(thin, face(h, tm), smallest_angle(h) < sliver); };
   for (int pass = 0; pass < 3; ++pass) {
     bool changed = false;
+    for (auto f : faces(tm)) mark(halfedge(f, tm));
     std::vector<edge_descriptor> all(edges(tm).first, edges(tm).second);
     for (auto e : all) {
       const auto h = halfedge(e, tm), g = opposite(h, tm);
       if (is_border(h, tm) || is_border(g, tm) || get(curve, e)) continue;
+      if (!get(thin, face(h, tm)) && !get(thin, face(g, tm))) continue;
       const double before_flip = std::min(smallest_angle(h), smallest_angle(g));
       if (!(before_flip < sliver) || !flip_if_good(h, true)) continue;
       if (std::min(smallest_angle(h), smallest_angle(opposite(h, tm))) > before_flip) {
         changed = true;
-        continue;
+      } else {
+        CGAL::Euler::flip_edge(h, tm);  // no better: back
+        --report.edges_flipped;
       }
-      CGAL::Euler::flip_edge(h, tm);  // no better: back
-      --report.edges_flipped;
+      mark(h), mark(opposite(h, tm));
     }
     if (!changed) break;
   }
