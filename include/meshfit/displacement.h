@@ -72,12 +72,13 @@ struct Soft_displacement {
 /// A coarse space for fit_displacements: displacements d = P c interpolated from a few nodes, so
 /// that a large mesh's system is solved on the nodes (the Galerkin system Pᵀ A P) rather than on
 /// every vertex. The nodes are aggregates of vertices (each grown `rings` edges out from a seed
-/// vertex, at the seed's point); a vertex interpolates the nodes of its own aggregate and of the
-/// aggregates beside it by moving least squares in its tangent plane (weights (1 − r²/R²)³, R a
-/// node's distance to the farthest node beside it), which reproduces every displacement linear
-/// along the surface: a smooth field is not held back by the coarse space (constants alone, as in
-/// smoothed aggregation, lock the thin-plate energy: the fit of a 327 680-face template ended 4
-/// times farther from its target). P is stored by rows.
+/// vertex, at the seed's point); a vertex interpolates the nodes up to two aggregates away that
+/// reach it, by moving least squares in its tangent plane (weights (1 − r²/R²)³, R a node's
+/// distance to the farthest node beside it; widened for a vertex that fewer than three nodes
+/// around it reach, at a border), which reproduces every displacement linear along the surface:
+/// a smooth field is not held back by the coarse space (constants alone, as in smoothed
+/// aggregation, lock the thin-plate energy: the fit of a 327 680-face template ended 4 times
+/// farther from its target). P is stored by rows.
 struct Coarse_space {
   std::size_t nodes = 0;                ///< the number of nodes (columns of P)
   std::vector<std::size_t> seed;        ///< each node's seed vertex (the node is at its point)
