@@ -212,7 +212,7 @@ TEST_CASE("cli ecosystem: every report has the same top-level keys, those of doc
   CHECK(doc.find("`vertices_moved`, **deprecated**") != std::string::npos);
   for (const std::string name : {"d", "f"}) {
     const Json fine = read_json(dir.file(name + ".json"))["details"]["fine_level"];
-    for (const char* key : {"approach", "approach_constraints", "approach_scale", "approach_retried"}) {
+    for (const char* key : {"approach", "approach_constraints", "approach_scale", "approach_coarse_nodes", "approach_retried"}) {
       INFO(name << ": " << key);
       CHECK(fine.contains(key));
     }

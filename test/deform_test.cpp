@@ -698,8 +698,13 @@ TEST_CASE("deform: on a template far finer than the curves, step 3 solves along 
           "[deform][example][surface]") {
   Example e = load_example();
   for (int k = 0; k < 2; ++k) meshfit::internal::subdivide_at_midpoints(e.tm, get(CGAL::vertex_point, e.tm));
+  const std::size_t n = e.tm.number_of_vertices();
   const auto r = meshfit::deform_template(e.tm, e.network, e.pairs);
   CHECK(r.template_subdivisions == 0);
+  // 40 962 vertices: the ICP approach is solved in a coarse space of about a sixteenth of them.
+  CHECK(r.approach == meshfit::Approach::icp);
+  CHECK(r.approach_coarse_nodes > n / 32);
+  CHECK(r.approach_coarse_nodes < n / 8);
   CHECK(r.displacement.held_beyond_band > 0);
   CHECK(r.displacement.free_vertices < r.displacement.held_beyond_band);
   check_embedded_without_folds(e, r);
@@ -711,6 +716,10 @@ TEST_CASE("deform: on a template far finer than the curves, step 3 solves along 
   }
   INFO("largest deviation from the ellipsoid's radius: " << worst);
   CHECK(worst < 0.0133);
+  // The example as it is (2 562 vertices): the approach is solved on every vertex.
+  Example small = load_example();
+  const auto rs = meshfit::deform_template(small.tm, small.network, small.pairs);
+  CHECK(rs.approach_coarse_nodes == 0);
 }
 
 TEST_CASE("deform: curves sampled far more densely than the template's edges are refused at once, with the figures",

@@ -108,6 +108,9 @@ struct Deformation_report {
   Approach approach = Approach::none;
   std::size_t approach_constraints = 0;  ///< see `approach`
   double approach_scale = 0;  ///< the part of the approach motion applied (see approach_constraints)
+  /// The nodes of the coarse space the ICP approach's steps were solved on (coarse_space: on
+  /// 20 000 vertices or more); 0 when they were solved on every vertex, or for another approach.
+  std::size_t approach_coarse_nodes = 0;
   /// Steps 1-4 ran more than once (an earlier start left defects).
   bool approach_retried = false;
   /// Points added on long segments (deform_fine_on_surface, step 0), which become mesh vertices.

@@ -768,6 +768,7 @@ Json json_fine_level(const meshfit::Deformation_report& r) {
     j["approach"] = meshfit::to_string(r.approach);
     j["approach_constraints"] = r.approach_constraints;
     j["approach_scale"] = number(r.approach_scale);
+    j["approach_coarse_nodes"] = r.approach_coarse_nodes;
     j["approach_retried"] = r.approach_retried;
     j["segments_embedded"] = r.segments_embedded;
     j["segments_not_embedded"] = r.segments_not_embedded.size();

@@ -480,6 +480,7 @@ inline void check_pairs(const std::vector<Correspondence>& pairs, std::size_t te
 struct Approach_result {
   std::size_t constraints = 0;  ///< template vertices given a displacement
   double scale = 0;             ///< the part of the displacement applied (0: none)
+  std::size_t coarse_nodes = 0;  ///< the coarse space's nodes the steps were solved on (0: every vertex)
 };
 
 /// Brings the coarse-deformed surface towards the curves before they are embedded, along the
@@ -606,6 +607,7 @@ class Icp_approach {
           take_step(before, fit_displacements(adjacency, constraints, stiffness, coarse.nodes > 0 ? &coarse : nullptr));
       if (scale == 0) break;
       result.scale = scale;
+      result.coarse_nodes = coarse.nodes;
     }
     return result;
   }

@@ -440,8 +440,9 @@ Deformation_report deform_fine_on_surface_impl(TriangleMesh& tm, const Curve_net
   // through split edges (fine_on_surface's split_for_paths): a fallback, so that what was clean
   // without it stays as it was.
   // A polyline far from the coarse surface is refused before any approach pulls the surface to it.
-  // One face tree for that check and the ICP's first step: both at the coarse surface's points,
-  // which every start restores (a tree costs 0.7 s at 1.3 million faces).
+  // One face tree for that check and the first start's ICP, on the mesh as it is (a tree costs
+  // 0.7 s at 1.3 million faces). A later start restores the coarse surface by rebuilding the
+  // mesh, whose faces the tree would no longer know: ICP builds its own then.
   internal::Face_tree<TriangleMesh, decltype(vpm)> coarse_tree;
   internal::build_face_tree(tm, vpm, coarse_tree);
   internal::check_polylines_near(tm, vpm, coarse_tree, network);
@@ -457,7 +458,7 @@ Deformation_report deform_fine_on_surface_impl(TriangleMesh& tm, const Curve_net
       // Curves more than twice as dense as the template: no approach will give them room (step 2
       // refuses such inputs), and ICP would only move the template around.
       if (start == 0 && cut.network.number_of_vertices() <= 2 * num_vertices(tm))
-        approach = internal::approach_curves_icp(tm, vpm, cut.network, cut_pairs, &coarse_tree);
+        approach = internal::approach_curves_icp(tm, vpm, cut.network, cut_pairs, tried == 0 ? &coarse_tree : nullptr);
       if (start == 1) approach = internal::approach_curves(tm, vpm, cut.network, cut_pairs);
       if (start < 2 && approach.scale == 0) continue;  // the approach made no motion: the same start as the last
       std::optional<Deformation_report> r;
@@ -475,6 +476,7 @@ Deformation_report deform_fine_on_surface_impl(TriangleMesh& tm, const Curve_net
       walled = walled || !r->segments_not_embedded.empty();
       r->approach_constraints = approach.constraints;
       r->approach_scale = approach.scale;
+      r->approach_coarse_nodes = approach.coarse_nodes;
       r->approach = start == 0 ? Approach::icp : start == 1 ? Approach::nearest_vertices : Approach::none;
       r->approach_retried = tried > 1;
       if (!best || defects(*r) < defects(*best)) {
