@@ -282,6 +282,21 @@ void soft_system(const Vertex_adjacency& adj, const std::vector<Soft_displacemen
   A = energy_matrix(adj, 2, stiffness, &data);
 }
 
+// A coarse space (a public struct a caller may fill) that fits a mesh of n vertices: rows in
+// order, every entry's node in range, every weight finite.
+void check_coarse_space(const Coarse_space& cs, std::size_t n) {
+  const std::string what = "displacement: a coarse space ";
+  if (cs.offsets.size() != n + 1)
+    throw Invalid_input(what + "of " + std::to_string(cs.offsets.size() - 1) + " vertices for a mesh of " + std::to_string(n));
+  if (cs.offsets.front() != 0 || !std::is_sorted(cs.offsets.begin(), cs.offsets.end()) ||
+      cs.offsets.back() != cs.node.size() || cs.weight.size() != cs.node.size())
+    throw Invalid_input(what + "whose rows do not match its " + std::to_string(cs.node.size()) + " entries");
+  for (std::size_t k = 0; k < cs.node.size(); ++k)
+    if (cs.node[k] >= cs.nodes || !std::isfinite(cs.weight[k]))
+      throw Invalid_input(what + "with entry " + std::to_string(k) + " out of its " + std::to_string(cs.nodes) +
+                          " nodes or not finite");
+}
+
 std::vector<Vector_3> to_vectors(const Eigen::MatrixXd& x) {
   std::vector<Vector_3> d(static_cast<std::size_t>(x.rows()));
   for (Eigen::Index i = 0; i < x.rows(); ++i) d[static_cast<std::size_t>(i)] = Vector_3(x(i, 0), x(i, 1), x(i, 2));
@@ -438,9 +453,7 @@ std::vector<Vector_3> fit_displacements(const Vertex_adjacency& adj, const std::
                                         double stiffness, const Coarse_space* coarse) {
   internal::Fp_trap_scope traps;
   const std::size_t n = adj.size();
-  if (coarse && coarse->offsets.size() != n + 1)
-    throw Invalid_input("displacement: a coarse space of " + std::to_string(coarse->offsets.size() - 1) +
-                        " vertices for a mesh of " + std::to_string(n));
+  if (coarse) check_coarse_space(*coarse, n);
   Sparse A;
   Eigen::MatrixXd rhs;
   std::vector<bool> held;

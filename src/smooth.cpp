@@ -206,28 +206,12 @@ V3 closest_on_segment(V3 a, V3 b, V3 p) {
 }
 
 /// A triangle's normal and whether it is too thin to have a plane we trust.
-// A face's normal (not normalised) and its longest edge squared: what the walk and the flip guard
-// read of every face, computed once per face and positions.
-struct Face_frame {
-  V3 n;
-  double e2;
-};
-
-inline Face_frame face_frame(V3 a, V3 b, V3 c) {
-  return {cross(b - a, c - a), std::max({dot(b - a, b - a), dot(c - b, c - b), dot(a - c, a - c)})};
-}
-
-// Whether a face of frame `fr` has a plane: |n|² ≤ 1e-24 e⁴ means that the largest angle's sine
-// is below about 1e-12, the plane is noise.
-inline bool has_plane(const Face_frame& fr, double& nn) {
-  nn = dot(fr.n, fr.n);
-  return nn > 1e-24 * fr.e2 * fr.e2;
-}
-
 inline bool has_plane(V3 a, V3 b, V3 c, V3& n, double& nn) {
-  const Face_frame fr = face_frame(a, b, c);
-  n = fr.n;
-  return has_plane(fr, nn);
+  n = cross(b - a, c - a);
+  nn = dot(n, n);
+  const double e2 = std::max({dot(b - a, b - a), dot(c - b, c - b), dot(a - c, a - c)});
+  // |n|² ≤ 1e-24 e⁴: the largest angle's sine is below about 1e-12, the plane is noise.
+  return nn > 1e-24 * e2 * e2;
 }
 
 /// The closest point of triangle abc to p.
@@ -247,18 +231,16 @@ V3 closest_on_triangle(V3 a, V3 b, V3 c, V3 p) {
   return cand[best];
 }
 
-/// The walk of smooth.h: from face f of the reference surface (its points `ref`, its faces'
-/// frames `frame`) towards p; returns the landing point, sets f to the landing face and `clamped`
-/// when it ended at a face's closest point.
-V3 walk(const double* ref, const Face_frame* frame, const Smoothing_arrays& m, const Topology& t, std::uint32_t& f,
-        V3 p, bool& clamped) {
+/// The walk of smooth.h: from face f of the reference surface towards p; returns the landing
+/// point, sets f to the landing face and `clamped` when it ended at a face's closest point.
+V3 walk(const double* ref, const Smoothing_arrays& m, const Topology& t, std::uint32_t& f, V3 p, bool& clamped) {
   std::uint32_t prev = no_face;
   for (int step = 0; step < max_walk_faces; ++step) {
     const auto& tri = m.triangles[f];
     const V3 v[3] = {load(ref, tri[0]), load(ref, tri[1]), load(ref, tri[2])};
-    const V3 n = frame[f].n;
+    V3 n;
     double nn;
-    if (!has_plane(frame[f], nn)) break;
+    if (!has_plane(v[0], v[1], v[2], n, nn)) break;
     const V3 q = p - (dot(p - v[0], n) / nn) * n;
     int kmin = 0;
     double lmin = 0;
@@ -348,13 +330,6 @@ class Flow_run {
       if (t.vf_start[i] < t.vf_start[i + 1]) home[i] = t.vf[t.vf_start[i]];
     cur = m.points;
     next.resize(3 * n);
-    cur_frame.resize(nf);
-    next_frame.resize(nf);
-    compute_frames(cur.data(), cur_frame);
-    if (s.kind == Flow_kind::modified_laplacian) {
-      ref_frame.resize(nf);
-      compute_frames(reference.data(), ref_frame);
-    }
     disp.assign(3 * n, 0.0);
     scale.resize(n);
     landing.resize(n);
@@ -379,7 +354,6 @@ class Flow_run {
       compute_steps();
       // Candidate positions for the current scales; projected for the modified flows.
       ref = s.kind == Flow_kind::modified_laplacian ? reference.data() : P;
-      ref_frames = s.kind == Flow_kind::modified_laplacian ? ref_frame.data() : cur_frame.data();
 #pragma omp parallel for schedule(static) if (parallel)
       for (std::ptrdiff_t i = 0; i < sn; ++i) place(std::size_t(i));
       guard_flips();
@@ -486,7 +460,7 @@ class Flow_run {
     if (modified && home[i] != no_face && scale[i] > 0) {
       std::uint32_t f = home[i];
       bool c = false;
-      store(next.data(), i, walk(ref, ref_frames, m, t, f, target, c));
+      store(next.data(), i, walk(ref, m, t, f, target, c));
       landing[i] = f;
       walk_clamped[i] = c;
     } else {
@@ -503,7 +477,6 @@ class Flow_run {
   // ends. A face that stays flagged with all its corners still (impossible but for rounding)
   // changes nothing and is dropped.
   void guard_flips() {
-    compute_frames(next.data(), next_frame);
 #pragma omp parallel for schedule(static) if (parallel)
     for (std::ptrdiff_t f = 0; f < snf; ++f) flipped[std::size_t(f)] = judge(std::size_t(f));
     std::vector<std::uint32_t> flagged, changed, recheck;
@@ -534,11 +507,6 @@ class Flow_run {
             face_round[t.vf[k]] = round;
             recheck.push_back(t.vf[k]);
           }
-      // The frames of every face judged again (the only faces with a corner moved) before any of
-      // them is judged: judge() reads its neighbours' frames.
-#pragma omp parallel for schedule(static) if (parallel)
-      for (std::ptrdiff_t k = 0; k < std::ptrdiff_t(recheck.size()); ++k)
-        next_frame[recheck[std::size_t(k)]] = frame_of(next.data(), recheck[std::size_t(k)]);
 #pragma omp parallel for schedule(static) if (parallel)
       for (std::ptrdiff_t k = 0; k < std::ptrdiff_t(recheck.size()); ++k)
         flipped[recheck[std::size_t(k)]] = judge(recheck[std::size_t(k)]);
@@ -548,44 +516,30 @@ class Flow_run {
     }
   }
 
-  // Face f's frame at positions X.
-  Face_frame frame_of(const double* X, std::size_t f) const {
-    const auto& tri = m.triangles[f];
-    return face_frame(load(X, tri[0]), load(X, tri[1]), load(X, tri[2]));
-  }
-
-  void compute_frames(const double* X, std::vector<Face_frame>& frame) const {
-#pragma omp parallel for schedule(static) if (parallel)
-    for (std::ptrdiff_t f = 0; f < snf; ++f) frame[std::size_t(f)] = frame_of(X, std::size_t(f));
-  }
-
-  // Whether face f would flip or turn into a needle or fold over a neighbour at `next` (the
-  // frames at P and at `next`: cur_frame, next_frame).
+  // Whether face f would flip or turn into a needle or fold over a neighbour at `next`.
   bool judge(std::size_t f) const {
     const auto& tri = m.triangles[f];
-    const V3 n0 = cur_frame[f].n, n1 = next_frame[f].n;
+    const V3 a = load(P, tri[0]), b = load(P, tri[1]), c = load(P, tri[2]);
+    const V3 na = load(next.data(), tri[0]), nb = load(next.data(), tri[1]), nc = load(next.data(), tri[2]);
+    const V3 n0 = cross(b - a, c - a), n1 = cross(nb - na, nc - na);
     const double l0 = dot(n0, n0), l1 = dot(n1, n1);
     if (!(l0 > 0)) return false;  // a face of zero area has no normal to flip: not judged
     // A face must not turn into a needle either (that is how a flip starts, and a needle's
     // cotangents are clamped): its shape figure |n| / (longest edge)², about the sine of its
     // smallest angle, may not fall below needle_shape, or below what it was if it already was.
     // Compared squared and without division, so that an unmoved face always passes.
-    const double e0 = cur_frame[f].e2, e1 = next_frame[f].e2;
+    const double e0 = std::max({dot(b - a, b - a), dot(c - b, c - b), dot(a - c, a - c)});
+    const double e1 = std::max({dot(nb - na, nb - na), dot(nc - nb, nc - nb), dot(na - nc, na - nc)});
     if (!(l1 * (e0 * e0) >= std::min(l0, needle_shape * needle_shape * (e0 * e0)) * (e1 * e1))) return true;
-    // The moved triangle's points, read only when a filter below is unsure.
-    auto moved = [&] {
-      const V3 na = load(next.data(), tri[0]), nb = load(next.data(), tri[1]), nc = load(next.data(), tri[2]);
-      return Triangle_points{Point_3(na.x, na.y, na.z), Point_3(nb.x, nb.y, nb.z), Point_3(nc.x, nc.y, nc.z)};
-    };
     // The filter: a normal turning by less than about 89.9° (cos > 1e-3) is kept; otherwise the
     // exact orientation of the moved triangle in the plane of the old one decides. Judged
     // against the previous iteration and against the positions at the call: small turns add
     // up over iterations, and the promise is that no face is reversed with respect to the input.
+    const Triangle_points after{Point_3(na.x, na.y, na.z), Point_3(nb.x, nb.y, nb.z), Point_3(nc.x, nc.y, nc.z)};
     const double d0 = dot(n0, n1);
     if (!(d0 > 0 && d0 * d0 > 1e-6 * l0 * l1)) {
-      const V3 a = load(P, tri[0]), b = load(P, tri[1]), c = load(P, tri[2]);
       const Triangle_points before{Point_3(a.x, a.y, a.z), Point_3(b.x, b.y, b.z), Point_3(c.x, c.y, c.z)};
-      if (orientation_flip_test(before, moved()) != Flip_state::kept) return true;
+      if (orientation_flip_test(before, after) != Flip_state::kept) return true;
     }
     const V3 ni = load(initial_normal.data(), f);
     const double di = dot(ni, n1);
@@ -593,7 +547,7 @@ class Flow_run {
     if (li > 0 && !(di > 0 && di * di > 1e-6 * li * l1)) {
       const V3 ia = load(oriented.data(), tri[0]), ib = load(oriented.data(), tri[1]), ic = load(oriented.data(), tri[2]);
       const Triangle_points initial{Point_3(ia.x, ia.y, ia.z), Point_3(ib.x, ib.y, ib.z), Point_3(ic.x, ic.y, ic.z)};
-      if (orientation_flip_test(initial, moved()) != Flip_state::kept) return true;
+      if (orientation_flip_test(initial, after) != Flip_state::kept) return true;
     }
     // Nor may it fold over a neighbour: two faces sharing an edge that turn more than 90 degrees
     // apart, when they did not at the call (each face alone can turn less than 90 degrees and
@@ -603,13 +557,13 @@ class Flow_run {
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t g = t.face_nbr[f][std::size_t(k)];
       if (g == no_face) continue;
-      const V3 ng = next_frame[g].n;
-      const double dg = dot(n1, ng);
-      if (dg > 0 && dg * dg > 1e-6 * l1 * dot(ng, ng)) continue;
       const auto& gt = m.triangles[g];
       const V3 ga = load(next.data(), gt[0]), gb = load(next.data(), gt[1]), gc = load(next.data(), gt[2]);
+      const V3 ng = cross(gb - ga, gc - ga);
+      const double dg = dot(n1, ng);
+      if (dg > 0 && dg * dg > 1e-6 * l1 * dot(ng, ng)) continue;
       const Triangle_points other{Point_3(ga.x, ga.y, ga.z), Point_3(gb.x, gb.y, gb.z), Point_3(gc.x, gc.y, gc.z)};
-      if (orientation_in_plane(moved(), other[0], other[1], other[2]) == CGAL::POSITIVE) continue;
+      if (orientation_in_plane(after, other[0], other[1], other[2]) == CGAL::POSITIVE) continue;
       const V3 ia = load(oriented.data(), tri[0]), ib = load(oriented.data(), tri[1]), ic = load(oriented.data(), tri[2]);
       const V3 ja = load(oriented.data(), gt[0]), jb = load(oriented.data(), gt[1]), jc = load(oriented.data(), gt[2]);
       const Triangle_points initial{Point_3(ia.x, ia.y, ia.z), Point_3(ib.x, ib.y, ib.z), Point_3(ic.x, ic.y, ic.z)};
@@ -639,7 +593,6 @@ class Flow_run {
     }
     if (!all_finite) throw Numerical_error("smooth: a vertex position became non-finite in iteration " + std::to_string(it));
     cur.swap(next);
-    cur_frame.swap(next_frame);  // the frames at `next`, every face's brought up to date by guard_flips
     report.clamped_cotangents += clamped_cot;
     report.projections_clamped += clamped_walks;
     report.last_step_max_displacement = std::sqrt(step_max);
@@ -666,9 +619,6 @@ class Flow_run {
   std::vector<double> initial_normal;  // the normals of the faces at the call, for the flip guard
   std::vector<std::uint32_t> home;     // each vertex's face of the reference surface
   std::vector<double> cur, next, disp, scale, face_area2, edge_w;
-  // The faces' frames at cur and next, and at the modified Laplacian's reference.
-  std::vector<Face_frame> cur_frame, next_frame, ref_frame;
-  const Face_frame* ref_frames = nullptr;  // the frames of `ref`
   std::vector<std::array<double, 3>> face_cot;
   std::vector<std::uint32_t> landing;
   std::vector<unsigned char> walk_clamped, flipped;

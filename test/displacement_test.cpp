@@ -258,6 +258,13 @@ TEST_CASE("displacement: a coarse space sums to one, reproduces linear fields al
   CHECK_THROWS_AS(meshfit::coarse_space(a, p, std::vector<Vector_3>(p.size(), normal), 0), meshfit::Invalid_input);
   const Vertex_adjacency small = grid_graph(4);
   CHECK_THROWS_AS(meshfit::fit_displacements(small, {}, 1, &cs), meshfit::Invalid_input);
+  meshfit::Coarse_space bad = cs;
+  bad.node[7] = cs.nodes;
+  CHECK_THROWS_WITH(meshfit::fit_displacements(a, {}, 1, &bad), Catch::Contains("entry 7 out of"));
+  bad = cs, bad.weight[3] = std::nan("");
+  CHECK_THROWS_AS(meshfit::fit_displacements(a, {}, 1, &bad), meshfit::Invalid_input);
+  bad = cs, bad.offsets[5] = bad.offsets[6] + 1;
+  CHECK_THROWS_WITH(meshfit::fit_displacements(a, {}, 1, &bad), Catch::Contains("rows do not match"));
 }
 
 // The oracle: the whole mesh's solve of the same least-squares problem. The two differ most at

@@ -99,7 +99,8 @@ Coarse_space coarse_space(const Vertex_adjacency& adjacency, const std::vector<P
 /// displacement. With `coarse` (built for this adjacency), d is sought in its span: the minimiser
 /// there (the whole mesh's solve when the coarse system cannot be factored).
 /// \throws Invalid_input on a corner out of range, a non-finite target, a stiffness that is not
-/// positive or a coarse space of another size; Numerical_error when the factorisation fails.
+/// positive or a coarse space of another size or malformed (rows out of order, a node out of
+/// range, a weight not finite); Numerical_error when the factorisation fails.
 std::vector<Vector_3> fit_displacements(const Vertex_adjacency& adjacency, const std::vector<Soft_displacement>& constraints,
                                         double stiffness, const Coarse_space* coarse = nullptr);
 
