@@ -32,6 +32,7 @@ using Sparse = Eigen::SparseMatrix<double>;
 Eigen::MatrixXd solve_definite(const Sparse& A, const Eigen::MatrixXd& rhs, const char* what) {
   const internal::Scoped_openblas_threads one_thread(cholmod_blas_threads);
   Eigen::CholmodSupernodalLLT<Sparse, Eigen::Lower> solver;
+  solver.cholmod().print = 0;  // the library prints nothing: a failure is the exception below
   solver.compute(A);
   const std::string size = std::to_string(A.rows()) + "×" + std::to_string(A.cols());
   if (solver.info() != Eigen::Success)
@@ -51,16 +52,35 @@ void check_sizes(std::size_t n, const std::vector<bool>& constrained, const std:
 }
 
 // The membrane (order 1: K = D − A, the symmetric graph Laplacian) or thin-plate (order 2:
-// K D⁻¹ K, the squared uniform Laplacian weighted by the degree) energy's matrix, times `scale`,
-// plus `extra` when given (a matrix of the same size). Written column by column, each gathered in
-// a scratch column of the mesh's size (an Eigen product K D⁻¹ K took 2.4 s at 655 362 vertices,
-// this 0.2 s), with the operations of Eigen's product in its order (the sum over k ascending of
-// (K_ik / deg_k) K_kj, then the scale, then `extra`): the same numbers to the last bit, so that
-// a fit does not change with the way its matrix is written.
+// Kᵀ M⁻¹ K, the squared uniform Laplacian weighted by the number of neighbours it averages)
+// energy's matrix, times `scale`, plus `extra` when given (a matrix of the same size). In the
+// thin-plate energy a border vertex's row of K is taken along the border (over its border
+// neighbours, M its count of them): the whole one-sided Laplacian there measures the slope
+// across the border, and asking it to vanish held a fit's border flat (open-plane-saddle-boundary
+// ended 1.04 % from the truth, 0.49 % so). Written column by column, each gathered in a scratch
+// column of the mesh's size (an Eigen product K D⁻¹ K took 2.4 s at 655 362 vertices, this
+// 0.2 s), with the operations of Eigen's product in its order (the sum over k ascending of
+// (K_ki / M_k) K_kj, then the scale, then `extra`): the same numbers to the last bit, so that a
+// fit does not change with the way its matrix is written.
 Sparse energy_matrix(const Vertex_adjacency& adj, int order, double scale, const Sparse* extra = nullptr) {
   const std::size_t n = adj.size();
   const auto N = static_cast<Eigen::Index>(n);
   auto degree = [&](std::size_t i) { return static_cast<double>(adj.offsets[i + 1] - adj.offsets[i]); };
+  // Whether the edge to the neighbour at position m lies on the border; a vertex's row of the
+  // thin-plate Laplacian: its border neighbours when it has any, else all (M_k their count).
+  if (!adj.border_edge.empty() && adj.border_edge.size() != adj.neighbours.size())
+    throw Invalid_input("displacement: " + std::to_string(adj.border_edge.size()) + " border flags for " +
+                        std::to_string(adj.neighbours.size()) + " neighbours");
+  const bool has_border = std::find(adj.border_edge.begin(), adj.border_edge.end(), true) != adj.border_edge.end();
+  auto on_border = [&](std::size_t m) { return has_border && adj.border_edge[m]; };
+  std::vector<double> row_count(n);
+  std::vector<bool> border_vertex(n, false);
+  for (std::size_t k = 0; k < n; ++k) {
+    std::size_t b = 0;
+    for (std::size_t m = adj.offsets[k]; m < adj.offsets[k + 1]; ++m) b += on_border(m);
+    border_vertex[k] = b > 0;
+    row_count[k] = b > 0 ? static_cast<double>(b) : degree(k);
+  }
   std::vector<double> value(n, 0.0);
   std::vector<bool> seen(n, false);
   std::vector<std::size_t> touched, column;
@@ -73,22 +93,24 @@ Sparse energy_matrix(const Vertex_adjacency& adj, int order, double scale, const
                                       (extra ? static_cast<std::size_t>(extra->nonZeros()) : 0)));
   for (std::size_t i = 0; i < n; ++i) {
     touched.clear();
-    // Column i of K: i itself (the degree, when not 0) and its neighbours (−1), ascending.
+    // The rows k of K whose column i is not zero, ascending: i's own (when it has neighbours) and
+    // its neighbours' (for order 2, but a border vertex's across an inner edge).
     column.clear();
     if (degree(i) > 0) column.push_back(i);
-    column.insert(column.end(), adj.neighbours.begin() + static_cast<std::ptrdiff_t>(adj.offsets[i]),
-                  adj.neighbours.begin() + static_cast<std::ptrdiff_t>(adj.offsets[i + 1]));
+    for (std::size_t m = adj.offsets[i]; m < adj.offsets[i + 1]; ++m)
+      if (order == 1 || !border_vertex[adj.neighbours[m]] || on_border(m)) column.push_back(adj.neighbours[m]);
     std::sort(column.begin(), column.end());
     for (std::size_t k : column) {
-      const double K_ki = k == i ? degree(i) : -1.0;
       if (order == 1) {
-        add(k, K_ki);
+        add(k, k == i ? degree(i) : -1.0);
         continue;
       }
-      // Column k of K D⁻¹, times K_ki.
-      const double d_k = 1.0 / degree(k);
-      add(k, (degree(k) * d_k) * K_ki);
-      for (std::size_t m = adj.offsets[k]; m < adj.offsets[k + 1]; ++m) add(adj.neighbours[m], (-1.0 * d_k) * K_ki);
+      // Row k of M⁻¹ K, times K_ki.
+      const double K_ki = k == i ? row_count[i] : -1.0;
+      const double d_k = 1.0 / row_count[k];
+      add(k, (row_count[k] * d_k) * K_ki);
+      for (std::size_t m = adj.offsets[k]; m < adj.offsets[k + 1]; ++m)
+        if (!border_vertex[k] || on_border(m)) add(adj.neighbours[m], (-1.0 * d_k) * K_ki);
     }
     if (scale != 1)
       for (std::size_t j : touched) value[j] *= scale;

@@ -310,3 +310,39 @@ TEST_CASE("displacement: fit_displacements in a coarse space comes close to the 
     CHECK(miss < fine_miss + 0.1 * largest);
   }
 }
+
+// The oracle: x² − y² is harmonic on the triangulated grid (its uniform Laplacian is 0 at every
+// inner vertex), so held on the border it comes back inside: the thin-plate energy's border rows
+// run along the border, among held vertices. A border row across the border (the one-sided
+// Laplacian) would measure the field's slope there and bend it.
+TEST_CASE("displacement: a harmonic field given on an open grid's border comes back inside", "[displacement]") {
+  const int m = 15;
+  std::vector<meshfit::Point_3> p;
+  Vertex_adjacency a = triangulated_grid(m, meshfit::Point_3(0, 0, 0), Vector_3(1, 0, 0), Vector_3(0, 1, 0), 1.0, p);
+  auto on_side = [&](std::size_t i) { return p[i].x() == 0 || p[i].y() == 0 || p[i].x() == m - 1 || p[i].y() == m - 1; };
+  for (std::size_t i = 0; i + 1 < a.offsets.size(); ++i)
+    for (std::size_t k = a.offsets[i]; k < a.offsets[i + 1]; ++k) {
+      const meshfit::Point_3& q = p[a.neighbours[k]];
+      // A border edge: both ends on one side of the square.
+      a.border_edge.push_back((p[i].x() == q.x() && (q.x() == 0 || q.x() == m - 1)) ||
+                              (p[i].y() == q.y() && (q.y() == 0 || q.y() == m - 1)));
+    }
+  auto f = [&](std::size_t i) { return Vector_3(0, 0, (p[i].x() - 7) * (p[i].x() - 7) - (p[i].y() - 3) * (p[i].y() - 3)); };
+  std::vector<bool> held(p.size(), false);
+  std::vector<Vector_3> given(p.size(), Vector_3(0, 0, 0));
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (on_side(i)) held[i] = true, given[i] = f(i);
+  auto worst = [&](const std::vector<Vector_3>& d) {
+    double e = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) e = std::max(e, std::sqrt((d[i] - f(i)).squared_length()));
+    return e;
+  };
+  CHECK(worst(meshfit::interpolate_displacements(a, held, given, 2)) < 1e-9);
+  // Without the border flags every row is a whole Laplacian, the border's one-sided: far off.
+  Vertex_adjacency closed_rows = a;
+  closed_rows.border_edge.clear();
+  CHECK(worst(meshfit::interpolate_displacements(closed_rows, held, given, 2)) > 1);
+  // Flags that do not match the neighbours are refused.
+  a.border_edge.pop_back();
+  CHECK_THROWS_AS(meshfit::interpolate_displacements(a, held, given, 2), meshfit::Invalid_input);
+}

@@ -418,7 +418,8 @@ Deformation_report deform_fine(TriangleMesh& tm, const Curve_network& network,
 ///      brought towards the curves: by non-rigid ICP (internal::approach_curves_icp: up to six
 ///      least-squares steps of falling stiffness, each asking that the point of the surface
 ///      tracked for every network vertex move onto it against the thin-plate energy of the
-///      motion, each untangled, halved while it leaves a face turned over or a new fold, and
+///      motion (the vertices of curves along the border, judged as in step 1 at the first step:
+///      their nearest border point), each untangled, halved while it leaves a face turned over or a new fold, and
 ///      the last that cannot be made ending the approach; on 20 000 vertices or more, each
 ///      step is solved in a coarse space of about a sixteenth of the vertices, coarse_space);
 ///   1. every network vertex gets a mesh vertex at (or near) its point on the surface, tracked

@@ -7,8 +7,12 @@
 // The Laplacian is the uniform (graph) one, Δd_i = mean of d_j over the neighbours j of i, minus
 // d_i: its weights are positive on every mesh, so the membrane solution is a convex combination
 // of the given displacements at every free vertex (a discrete maximum principle) and cannot
-// overshoot them. The sparse system on the free vertices is solved by CHOLMOD's supernodal
-// Cholesky factorisation; its size grows like the mesh, not like the number of constraints.
+// overshoot them. In the thin-plate energy a border vertex's Laplacian is taken along the border
+// (over its border neighbours, when Vertex_adjacency::border_edge says which): the mean over all
+// its neighbours, all on one side, measures the field's slope across the border, and asking it
+// to vanish would hold a curved border flat. The sparse system on the free vertices is solved
+// by CHOLMOD's supernodal Cholesky factorisation; its size grows like the mesh, not like the
+// number of constraints.
 #ifndef MESHFIT_DISPLACEMENT_H
 #define MESHFIT_DISPLACEMENT_H
 
@@ -25,6 +29,10 @@ namespace meshfit {
 struct Vertex_adjacency {
   std::vector<std::size_t> offsets{0};  ///< one more than the number of vertices, offsets[0] = 0
   std::vector<std::size_t> neighbours;  ///< the neighbours of every vertex, row after row
+  /// Optional, beside `neighbours` (empty: no edge is on a border): whether the edge to each
+  /// neighbour lies on the mesh's border. The thin-plate energy takes a border vertex's
+  /// Laplacian along the border, over its border neighbours alone (see interpolate_displacements).
+  std::vector<bool> border_edge;
   /// The number of vertices.
   std::size_t size() const { return offsets.size() - 1; }
 };

@@ -36,6 +36,7 @@
 #include <memory>
 #include <optional>
 #include <queue>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -563,6 +564,13 @@ class Icp_approach {
       put(face_index, f, corners.size());
       corners.push_back(s.corners(f));
     }
+    for (const auto& cycle : border_cycles(tm)) {
+      for (auto g : cycle) {
+        border_edges.push_back({get(s.index, source(g, tm)), get(s.index, target(g, tm))});
+        border_loop.push_back(loops);
+      }
+      ++loops;
+    }
     // Edges exempt from the fold test: folded or sharp on the coarse surface.
     const std::vector<Point_3> p = s.positions();
     s.folded_faces(p, &exempt);
@@ -588,8 +596,14 @@ class Icp_approach {
     double stiffness = 10;
     for (int step = 0; step < 6; ++step, stiffness /= 4) {
       const std::vector<Point_3> before = s.positions();
-      const std::vector<Soft_displacement> constraints =
-          surface_constraints(network, pairs, before, step == 0 ? tree : nullptr);
+      std::vector<Point_3> surface_point;
+      std::vector<Soft_displacement> constraints =
+          surface_constraints(network, pairs, before, step == 0 ? tree : nullptr, surface_point);
+      if (step == 0) {
+        along_border = vertices_along_border(network, before, surface_point);
+        free_slope_across_border_in_network(network, before);
+      }
+      attach_to_border(network, before, constraints);
       result.constraints = constraints.size();
       // Done when every network vertex is within a quarter of an edge of its surface point: what is
       // left is finer than the mesh (the 81 920-face scale case is there after one step; five more
@@ -629,13 +643,14 @@ class Icp_approach {
   // `tree`: the face tree at `before`, or nullptr (one is built).
   std::vector<Soft_displacement> surface_constraints(const Curve_network& network, const std::vector<Correspondence>& pairs,
                                                      const std::vector<Point_3>& before,
-                                                     const Face_tree<TriangleMesh, VPM>* given) const {
+                                                     const Face_tree<TriangleMesh, VPM>* given,
+                                                     std::vector<Point_3>& surface_point) const {
     std::vector<Soft_displacement> constraints;
     Face_tree<TriangleMesh, VPM> own;
     if (!given) build_face_tree(tm, vpm, own);
     const Face_tree<TriangleMesh, VPM>& tree = given ? *given : own;
     std::size_t off_nearest = 0;
-    const std::vector<Point_3> surface_point = tracked_projections(tm, vpm, tree, network, pairs, off_nearest);
+    surface_point = tracked_projections(tm, vpm, tree, network, pairs, off_nearest);
     for (std::size_t v = 0; v < network.number_of_vertices(); ++v) {
       const auto& c = corners[get(face_index, tree.closest_point_and_primitive(surface_point[v]).second)];
       // The surface point's barycentric coordinates in its face (a weight, not a decision).
@@ -649,6 +664,92 @@ class Icp_approach {
       constraints.push_back({c, {1 - b1 - b2, b1, b2}, network.point(v) - surface_point[v], 1});
     }
     return constraints;
+  }
+
+  // The nearest point to p on the border (border_edges[edge] at parameter u from its source), and
+  // its squared distance and the edge's length.
+  struct Border_point {
+    std::size_t edge = 0;
+    double u = 0, d2 = std::numeric_limits<double>::infinity(), length = 0;
+  };
+  Border_point nearest_border_point(const std::vector<Point_3>& p, const Point_3& q) const {
+    Border_point best;
+    for (std::size_t k = 0; k < border_edges.size(); ++k) {
+      const Point_3 &a = p[border_edges[k][0]], &b = p[border_edges[k][1]];
+      const Vector_3 ab = b - a;
+      const double len2 = ab.squared_length();
+      const double u = len2 > 0 ? std::clamp(((q - a) * ab) / len2, 0.0, 1.0) : 0.0;
+      const double d2 = CGAL::squared_distance(q, a + u * ab);
+      if (d2 < best.d2) best = {k, u, d2, std::sqrt(len2)};
+    }
+    return best;
+  }
+
+  // The network vertices of curves that run along the border, as step 1 of the fine level judges
+  // them (Surface_fine_level::place_border_vertices): a vertex is near the border when it is
+  // nearer to it than half a border edge more than to its surface point, and a curve runs along
+  // the border when the path of its near vertices' nearest border points is at least half as long
+  // as the curve; its near vertices and its ends are along the border.
+  std::vector<bool> vertices_along_border(const Curve_network& network, const std::vector<Point_3>& p,
+                                          const std::vector<Point_3>& surface_point) const {
+    const std::size_t nv = network.number_of_vertices();
+    std::vector<bool> along(nv, false);
+    if (border_edges.empty()) return along;
+    std::vector<bool> near(nv, false);
+    std::vector<Point_3> shadow(nv);
+    for (std::size_t v = 0; v < nv; ++v) {
+      const Border_point b = nearest_border_point(p, network.point(v));
+      near[v] = std::sqrt(b.d2) <= std::sqrt(CGAL::squared_distance(network.point(v), surface_point[v])) + 0.5 * b.length;
+      const Point_3 &a = p[border_edges[b.edge][0]], &c = p[border_edges[b.edge][1]];
+      shadow[v] = a + b.u * (c - a);
+    }
+    for (const auto& curve : network.curves()) {
+      const auto& cv = curve.vertices;
+      double length = 0, shadow_length = 0;
+      for (std::size_t i = 0; i + 1 < cv.size(); ++i) {
+        length += std::sqrt(CGAL::squared_distance(network.point(cv[i]), network.point(cv[i + 1])));
+        if (near[cv[i]] && near[cv[i + 1]]) shadow_length += std::sqrt(CGAL::squared_distance(shadow[cv[i]], shadow[cv[i + 1]]));
+      }
+      if (length > 0 && 2 * shadow_length >= length)
+        for (std::size_t v : cv) along[v] = along[v] || near[v] || v == cv.front() || v == cv.back();
+    }
+    return along;
+  }
+
+  // The vertices along the border (along_border) ask that their nearest border point, rather than
+  // their surface point, move onto them: nothing else keeps the border from running past a curve
+  // that bounds the surface (open-plane-wave-boundary: the corners flared out beyond the network's
+  // and became two regions more).
+  void attach_to_border(const Curve_network& network, const std::vector<Point_3>& p,
+                        std::vector<Soft_displacement>& constraints) const {
+    for (std::size_t v = 0; v < along_border.size(); ++v) {
+      if (!along_border[v]) continue;
+      const Border_point b = nearest_border_point(p, network.point(v));
+      const auto& e = border_edges[b.edge];
+      const Point_3 on = p[e[0]] + b.u * (p[e[1]] - p[e[0]]);
+      constraints[v] = {{e[0], e[1], e[0]}, {1 - b.u, b.u, 0}, network.point(v) - on, 1};
+    }
+  }
+
+  // The border loops that curves of the network run along (along_border) are given the thin-plate
+  // energy's rows along the border (Vertex_adjacency::border_edge): the network gives the surface's
+  // shape across them, which a row across the border would hold flat (open-plane-saddle-boundary
+  // ended 1.04 % of the diagonal from the truth so, 0.48 % now). Other loops keep their whole
+  // one-sided rows, which hold a free border's slope: along them alone, the rims of CGAL's pig's
+  // holes let 25 faces turn over (real-pig).
+  void free_slope_across_border_in_network(const Curve_network& network, const std::vector<Point_3>& p) {
+    std::vector<bool> in_network(loops, false);
+    bool any = false;
+    for (std::size_t v = 0; v < along_border.size(); ++v)
+      if (along_border[v]) any = in_network[border_loop[nearest_border_point(p, network.point(v)).edge]] = true;
+    if (!any) return;
+    std::set<std::pair<std::size_t, std::size_t>> edge;
+    for (std::size_t k = 0; k < border_edges.size(); ++k)
+      if (in_network[border_loop[k]]) edge.insert(std::minmax(border_edges[k][0], border_edges[k][1]));
+    adjacency.border_edge.assign(adjacency.neighbours.size(), false);
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t m = adjacency.offsets[i]; m < adjacency.offsets[i + 1]; ++m)
+        adjacency.border_edge[m] = edge.count(std::minmax(i, adjacency.neighbours[m])) > 0;
   }
 
   // The faces turned over against their normals before the step, then those beside a folded edge;
@@ -747,12 +848,17 @@ class Icp_approach {
   typename boost::property_map<TriangleMesh, CGAL::dynamic_face_property_t<std::size_t>>::type face_index;
   std::vector<bool> exempt;  // by edge
   Coarse_space coarse;       // empty below coarse_from_vertices, and until the first step
+  std::vector<std::array<std::size_t, 2>> border_edges;  // by vertex index, loop after loop
+  std::vector<std::size_t> border_loop;                  // each border edge's loop
+  std::size_t loops = 0;
+  std::vector<bool> along_border;  // by network vertex, judged at the first step (vertices_along_border)
 };
 
 /// Non-rigid ICP: brings the coarse surface towards the curves in up to six steps of falling
 /// stiffness (10, then a quarter of the last), before the curves are embedded in it. Each step
-/// takes every network vertex's surface point (tracked along the curves: tracked_projections)
-/// and asks, in the least-squares sense, that the point of its face move onto the vertex, against
+/// takes every network vertex's surface point (tracked along the curves: tracked_projections; for
+/// the vertices of curves that run along the border, judged at the first step as step 1 of the
+/// fine level judges them, the nearest border point) and asks, in the least-squares sense, that the point of its face move onto the vertex, against
 /// `stiffness` times the thin-plate energy of the motion (fit_displacements). Where the step
 /// turns a face over against its own normal before the step (an exact orientation with the
 /// normal's end as fourth point) or folds an edge that was neither folded nor sharp (faces more
