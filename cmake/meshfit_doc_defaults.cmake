@@ -3,7 +3,8 @@
 #   - the fields of meshfit::Deform_options (include/meshfit/deform.h): \default_<field>;
 #   - the fields of internal::Fit_options (include/meshfit/internal/fit_impl.h): \default_fit_<field>;
 #   - the fields of internal::Flow_settings (include/meshfit/internal/smooth_impl.h): \default_flow_<field>;
-#   - its `constexpr std::size_t default_<name> = <n>;` counts: \default_<name>, and fit's and
+#   - its `constexpr std::size_t default_<name> = <n>;` counts and `constexpr double` values:
+#     \default_<name>, and fit's and
 #     smooth_fitted_mesh's split of default_smoothing_iterations, \default_mean_curvature_iterations
 #     and \default_laplacian_iterations.
 # Sets MESHFIT_DOC_DEFAULT_ALIASES (lines `ALIASES += "name=value"` for the Doxyfile). A default that
@@ -37,10 +38,10 @@ function(meshfit_doc_defaults source_dir)
   read_struct_defaults("${source_dir}/include/meshfit/internal/fit_impl.h" Fit_options default_fit_ aliases found)
   set(smooth "${source_dir}/include/meshfit/internal/smooth_impl.h")
   read_struct_defaults("${smooth}" Flow_settings default_flow_ aliases found)
-  file(STRINGS "${smooth}" counts REGEX "^constexpr std::size_t default_[a-z_]+ = [0-9]+;")
+  file(STRINGS "${smooth}" counts REGEX "^constexpr (std::size_t|double) default_[a-z_]+ = [0-9.]+;")
   foreach(line IN LISTS counts)
-    string(REGEX REPLACE "^constexpr std::size_t (default_[a-z_]+) = ([0-9]+);" "\\1" name "${line}")
-    string(REGEX REPLACE "^constexpr std::size_t (default_[a-z_]+) = ([0-9]+);" "\\2" value "${line}")
+    string(REGEX REPLACE "^constexpr [a-z:_]+ (default_[a-z_]+) = ([0-9.]+);" "\\1" name "${line}")
+    string(REGEX REPLACE "^constexpr [a-z:_]+ (default_[a-z_]+) = ([0-9.]+);" "\\2" value "${line}")
     string(APPEND aliases "ALIASES += \"${name}=`${value}`\"\n")
     list(APPEND found "${name}")
     if(name STREQUAL "default_smoothing_iterations")
@@ -56,7 +57,7 @@ function(meshfit_doc_defaults source_dir)
                default_coarse_only default_memory_limit default_fit_check_self_intersections default_flow_step default_flow_weights default_flow_variant
                default_flow_alpha default_smoothing_iterations default_laplacian_flow_iterations
                default_mean_curvature_flow_iterations default_modified_mean_curvature_flow_iterations
-               default_modified_laplacian_flow_iterations)
+               default_modified_laplacian_flow_iterations default_smoothing_tolerance)
     if(NOT name IN_LIST found)
       message(FATAL_ERROR "meshfit_doc_defaults: the default ${name} was not found in the headers")
     endif()

@@ -87,6 +87,7 @@ void smooth_step(Work_mesh& work, const Curve_network& network, const Fit_option
     report.smoothing = smooth_fitted_mesh(work, parameters::mean_curvature_iterations(options.mean_curvature_iterations)
                                                     .laplacian_iterations(options.laplacian_iterations)
                                                     .step_size(options.step)
+                                                    .smoothing_tolerance(options.smoothing_tolerance)
                                                     .progress(options.deform.progress)
                                                     .edge_is_constrained_map(curve)
                                                     .vertex_is_constrained_map(pinned));

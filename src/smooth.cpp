@@ -358,6 +358,7 @@ class Flow_run {
       for (std::ptrdiff_t i = 0; i < sn; ++i) place(std::size_t(i));
       guard_flips();
       finish_iteration(it, clamped_cot);
+      if (s.stop_below > 0 && report.last_step_max_displacement <= s.stop_below * t.mean_edge) break;
     }
     m.points = cur;
   }

@@ -269,6 +269,14 @@ struct Fit_report {
 ///     \cgalParamType{an integer type}
 ///     \cgalParamDefault{`number_of_iterations - number_of_iterations / 5`: \default_laplacian_iterations}
 ///   \cgalParamNEnd
+///   \cgalParamNBegin{smoothing_tolerance}
+///     \cgalParamDescription{stage 3 ends a phase after an iteration that moves no vertex farther than this times the
+///       mean edge length (smooth_fitted_mesh)}
+///     \cgalParamType{`double`, not negative}
+///     \cgalParamDefault{\default_smoothing_tolerance}
+///     \cgalParamExtra{Zero makes every iteration; a negative or non-finite value throws meshfit::Invalid_input
+///       before any work.}
+///   \cgalParamNEnd
 ///   \cgalParamNBegin{step_size}
 ///     \cgalParamDescription{stage 3's step λ (smooth_fitted_mesh)}
 ///     \cgalParamType{`double` in (0, 1]}

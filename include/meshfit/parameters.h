@@ -28,6 +28,7 @@
 /// | `reference_points` | `std::vector<Point_3>`, one per vertex | the positions at the call | modified_laplacian_flow |
 /// | `mean_curvature_iterations` | integer: smooth_fitted_mesh's 1st phase | `number_of_iterations / 5` (\default_mean_curvature_iterations) | smooth_fitted_mesh, fit_template_to_curves |
 /// | `laplacian_iterations` | integer: smooth_fitted_mesh's 2nd phase | the rest (\default_laplacian_iterations) | smooth_fitted_mesh, fit_template_to_curves |
+/// | `smoothing_tolerance` | `double` ≥ 0: smooth_fitted_mesh ends a phase after an iteration that moves no vertex farther than this times the mean edge length (0: every iteration) | \default_smoothing_tolerance | smooth_fitted_mesh, fit_template_to_curves |
 /// | `check_self_intersections` | `bool`: fit's final verification | \default_fit_check_self_intersections | fit_template_to_curves |
 /// | `fine_level` | meshfit::Fine_level (deform.h) | \default_fine_level | deform_template, fit_template_to_curves |
 /// | `memory_limit` | `std::size_t`, bytes (memory_limit.h) | default_memory_limit(): RAM / 8, at most 2 GiB (also when 0) | the coarse level's RBF and deform_fine's (so deform_coarse, deform_template and fit_template_to_curves) |
@@ -82,6 +83,7 @@ using Progress_callback = std::function<bool(const Progress_step&)>;
   X(reference_points)               \
   X(mean_curvature_iterations)      \
   X(laplacian_iterations)           \
+  X(smoothing_tolerance)            \
   X(check_self_intersections)       \
   X(fine_level)                     \
   X(memory_limit)                   \

@@ -66,8 +66,10 @@ enum class Laplacian_variant {
 /// What a smoothing call did.
 struct Smoothing_report {
   std::size_t iterations = 0;             ///< iterations run (both phases for smooth_fitted_mesh)
-  std::size_t mean_curvature_iterations = 0;  ///< smooth_fitted_mesh: iterations of the first phase
-  std::size_t laplacian_iterations = 0;       ///< smooth_fitted_mesh: iterations of the second phase
+  /// smooth_fitted_mesh: the most iterations of the first phase (fewer are run when
+  /// smoothing_tolerance ends it: `iterations` counts those run)
+  std::size_t mean_curvature_iterations = 0;
+  std::size_t laplacian_iterations = 0;  ///< smooth_fitted_mesh: the most iterations of the second phase
   std::size_t vertices = 0;               ///< vertices of the mesh
   std::size_t fixed_vertices = 0;         ///< never moved (constrained, boundary, curve vertices)
   double mean_displacement = 0;           ///< mean over all vertices of |p_final − p_initial|
@@ -492,6 +494,14 @@ Smoothing_report modified_laplacian_flow(TriangleMesh& tm,
 ///     \cgalParamDefault{`number_of_iterations - number_of_iterations / 5`: \default_laplacian_iterations}
 ///     \cgalParamExtra{A negative value throws meshfit::Invalid_input.}
 ///   \cgalParamNEnd
+///   \cgalParamNBegin{smoothing_tolerance}
+///     \cgalParamDescription{a phase ends after an iteration that moves no vertex farther than this times the mean edge
+///       length at the call: the iterations counts are the most each phase makes (the report's `iterations` says how
+///       many were made)}
+///     \cgalParamType{`double`, not negative}
+///     \cgalParamDefault{\default_smoothing_tolerance}
+///     \cgalParamExtra{Zero makes every iteration; a negative or non-finite value throws meshfit::Invalid_input.}
+///   \cgalParamNEnd
 ///   \cgalParamNBegin{step_size}
 ///     \cgalParamDescription{the step of both phases λ (of the umbrella operator, or of λ h̄² for the mean curvature, h̄ the mean edge
 ///       length at the call)}
@@ -569,6 +579,7 @@ Smoothing_report smooth_fitted_mesh(TriangleMesh& tm, const NamedParameters& np 
   internal::Flow_settings second = internal::flow_settings(np, internal::Flow_kind::modified_laplacian, 0);
   first.iterations = mc;
   second.iterations = lap;
+  first.stop_below = second.stop_below = internal::smoothing_tolerance(np);
   first.progress_total = second.progress_total = mc + lap;
   second.progress_offset = mc;
   const Scoped_number_of_threads threads(internal::threads_of(np, "smooth"));

@@ -110,6 +110,8 @@ const Option_spec option_specs[] = {
     {"--mc-iterations", "N", "iterations of the modified mean-curvature flow"},
     {"--laplacian-iterations", "N", "iterations of the modified Laplacian flow"},
     {"--step", "X", "smoothing step lambda in (0, 1]"},
+    {"--smooth-tolerance", "X", "a smoothing phase ends after an iteration that moves no vertex farther than X times "
+                                "the mean edge length (0: every iteration runs)"},
     {"--allow-defects", nullptr, "write the result even when the final verification finds defects (segments not "
                                  "embedded, folded or degenerate faces, self-intersections); they are still reported"},
     {"--no-self-intersection-check", nullptr, "skip the final self-intersection test (the slowest check)"},
@@ -127,7 +129,7 @@ const std::vector<Command_spec>& command_specs() {
   static const std::vector<const char*> deform_opts{"--kernel", "--curve-density", "--fine-level", "--max-rounds",
                                                     "--max-memory"};
   static const std::vector<const char*> smooth_opts{"--iterations", "--mc-iterations", "--laplacian-iterations",
-                                                    "--step"};
+                                                    "--step", "--smooth-tolerance"};
   auto join = [](std::vector<const char*> a, const std::vector<const char*>& b) {
     a.insert(a.end(), b.begin(), b.end());
     return a;
@@ -171,6 +173,7 @@ std::string default_of(const std::string& name) {
   if (name == "--max-rounds") return std::to_string(deform.flip_prevention_rounds);
   if (name == "--iterations") return std::to_string(meshfit::internal::default_smoothing_iterations);
   if (name == "--step") return meshfit::internal::format_number(meshfit::internal::Flow_settings().step);
+  if (name == "--smooth-tolerance") return meshfit::internal::format_number(meshfit::internal::default_smoothing_tolerance);
   return "";
 }
 
@@ -1092,6 +1095,7 @@ long count_option(const Command_line& cl, const char* name, long fallback, long 
 struct Smooth_options {
   long mean_curvature_iterations = 0, laplacian_iterations = 0;
   double step = meshfit::internal::Flow_settings().step;
+  double tolerance = meshfit::internal::default_smoothing_tolerance;
 };
 
 Smooth_options smooth_options(const Command_line& cl) {
@@ -1108,6 +1112,13 @@ Smooth_options smooth_options(const Command_line& cl) {
     o.step = std::strtod(x.c_str(), &end);
     if (end == x.c_str() || *end != '\0' || !(o.step > 0 && o.step <= 1))
       throw Usage_error{"--step needs a number in (0, 1], not '" + x + "'"};
+  }
+  if (cl.values.count("--smooth-tolerance")) {
+    const std::string& x = cl.values.at("--smooth-tolerance");
+    char* end = nullptr;
+    o.tolerance = std::strtod(x.c_str(), &end);
+    if (end == x.c_str() || *end != '\0' || !(std::isfinite(o.tolerance) && o.tolerance >= 0))
+      throw Usage_error{"--smooth-tolerance needs a number not below 0, not '" + x + "'"};
   }
   return o;
 }
@@ -1179,6 +1190,7 @@ std::string smooth_mesh(Mesh& tm, const Smooth_options& so, Edge_flags curve, Ve
     r = meshfit::smooth_fitted_mesh(tm, meshfit::parameters::mean_curvature_iterations(so.mean_curvature_iterations)
                                             .laplacian_iterations(so.laplacian_iterations)
                                             .step_size(so.step)
+                                            .smoothing_tolerance(so.tolerance)
                                             .progress(progress)
                                             .edge_is_constrained_map(curve)
                                             .vertex_is_constrained_map(pinned));
@@ -1367,6 +1379,7 @@ Stage_failure fit_inputs(const Command_line& cl, Fit_inputs& in, const meshfit::
             .mean_curvature_iterations(so.mean_curvature_iterations)
             .laplacian_iterations(so.laplacian_iterations)
             .step_size(so.step)
+            .smoothing_tolerance(so.tolerance)
             .check_self_intersections(!cl.no_self_intersection_check)
             .edge_is_constrained_map(curve)
             .face_patch_map(region);

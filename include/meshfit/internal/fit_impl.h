@@ -28,6 +28,7 @@ struct Fit_options {
   Deform_options deform;  ///< stage 1's (and the progress callback)
   std::size_t mean_curvature_iterations = 0, laplacian_iterations = 0;  ///< smoothing_phases
   double step = Flow_settings().step;                                   ///< step_size
+  double smoothing_tolerance = default_smoothing_tolerance;             ///< smoothing_tolerance
   bool check_self_intersections = true;                                 ///< check_self_intersections
 };
 
@@ -47,6 +48,7 @@ Fit_options fit_options(const NamedParameters& np) {
   options.mean_curvature_iterations = phases.mean_curvature;
   options.laplacian_iterations = phases.laplacian;
   options.step = choose_parameter(get_parameter(np, meshfit::internal_np::step_size), options.step);
+  options.smoothing_tolerance = smoothing_tolerance(np);
   options.check_self_intersections = choose_parameter(get_parameter(np, meshfit::internal_np::check_self_intersections),
                                                       options.check_self_intersections);
   return options;

@@ -37,6 +37,12 @@ struct Smoothing_arrays {
 // (Doxygen) shows them through aliases that CMake reads from this file (cmake/meshfit_doc_defaults.cmake).
 /// smooth_fitted_mesh's iterations in all when `number_of_iterations` is not given.
 constexpr std::size_t default_smoothing_iterations = 100;
+/// smooth_fitted_mesh's `smoothing_tolerance` when it is not given: a phase ends after an
+/// iteration that moves no vertex farther than this times the mean edge length. On the battery's
+/// and the scale cases the smallest angle and its 5th percentile change by less than half a degree
+/// between 20 and 100 iterations, while the largest move per iteration falls below a hundredth of
+/// an edge after about 3 mean curvature and 35 Laplacian iterations.
+constexpr double default_smoothing_tolerance = 0.01;
 /// laplacian_flow's `number_of_iterations` when it is not given.
 constexpr std::size_t default_laplacian_flow_iterations = 20;
 /// mean_curvature_flow's.
@@ -54,6 +60,9 @@ struct Flow_settings {
   Laplacian_weights weights = Laplacian_weights::uniform;
   Laplacian_variant variant = Laplacian_variant::none;
   double alpha = 0.5;
+  /// The run ends after an iteration that moves no vertex farther than this times the mean edge
+  /// length (0: never; smooth_fitted_mesh's smoothing_tolerance).
+  double stop_below = 0;
   /// Called before iteration `index` (0-based) of `total`; returning false cancels.
   std::function<bool(std::size_t index, std::size_t total)> on_iteration;
   std::size_t progress_offset = 0, progress_total = 0;  ///< smooth_fitted_mesh numbers both phases together
@@ -99,6 +108,17 @@ Smoothing_phases smoothing_phases(const NamedParameters& np) {
           non_negative_count(
               choose_parameter(get_parameter(np, meshfit::internal_np::laplacian_iterations), total - total / 5),
               "smooth", "laplacian_iterations")};
+}
+
+/// smooth_fitted_mesh's `smoothing_tolerance`.
+/// \throws Invalid_input when it is negative or not finite.
+template <typename NamedParameters>
+double smoothing_tolerance(const NamedParameters& np) {
+  const double t = CGAL::parameters::choose_parameter(
+      CGAL::parameters::get_parameter(np, meshfit::internal_np::smoothing_tolerance), default_smoothing_tolerance);
+  if (!(std::isfinite(t) && t >= 0))
+    throw Invalid_input("smooth: smoothing_tolerance must be finite and not negative, not " + internal::format_number(t));
+  return t;
 }
 
 template <typename NamedParameters>
