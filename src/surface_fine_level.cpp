@@ -333,12 +333,9 @@ void Surface_fine_level::place_border_vertices() {
   for (auto h : halfedges(tm))
     if (is_border(h, tm)) border.push_back(h);
   if (!border.empty()) {
-    // Near the border: nearer to it than half a border edge more than to the surface. A curve
-    // (network.curves()) runs along the border when its shadow there (the path of the nearest
-    // border points of its consecutive near vertices) is at least half as long as the curve, and
-    // its vertices go onto the border. A curve that only ends there, or leaves the coarse surface
-    // across the border (its points beyond are near the border too, but their shadows bunch up),
-    // keeps its inner vertices inside.
+    // Near the border: nearer to it than half a border edge more than to the surface. The
+    // vertices of curves that run along the border (vertices_along_border) go onto it; a curve
+    // that only ends there, or leaves the coarse surface across it, keeps its inner vertices inside.
     std::vector<bool> near(nv, false);
     std::vector<Point_3> shadow(nv);
     for (std::size_t v = 0; v < nv; ++v) {
@@ -352,16 +349,7 @@ void Surface_fine_level::place_border_vertices() {
       const Point_3 a = s.to_point(source(b.h, tm)), c = s.to_point(target(b.h, tm));
       shadow[v] = a + b.u * (c - a);
     }
-    for (const auto& curve_vertices : network.curves()) {
-      const auto& cv = curve_vertices.vertices;
-      double length = 0, along = 0;
-      for (std::size_t i = 0; i + 1 < cv.size(); ++i) {
-        length += std::sqrt(CGAL::squared_distance(network.point(cv[i]), network.point(cv[i + 1])));
-        if (near[cv[i]] && near[cv[i + 1]]) along += std::sqrt(CGAL::squared_distance(shadow[cv[i]], shadow[cv[i + 1]]));
-      }
-      if (length > 0 && 2 * along >= length)
-        for (std::size_t v : cv) on_border[v] = on_border[v] || near[v] || v == cv.front() || v == cv.back();
-    }
+    on_border = vertices_along_border(network, near, shadow);
     for (std::size_t v = 0; v < nv; ++v)
       if (mesh_of[v] != unassigned) on_border[v] = near[v];
   }

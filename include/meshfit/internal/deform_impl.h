@@ -34,6 +34,7 @@
 #include <chrono>
 #include <deque>
 #include <memory>
+#include <limits>
 #include <optional>
 #include <queue>
 #include <set>
@@ -477,6 +478,28 @@ inline void check_pairs(const std::vector<Correspondence>& pairs, std::size_t te
   }
 }
 
+/// The network vertices of the curves that run along a mesh's border, given for each network
+/// vertex whether it is near the border (`near`) and its nearest border point (`shadow`): a curve
+/// (network.curves()) runs along the border when its shadow there (the path of the shadows of its
+/// consecutive near vertices) is at least half as long as the curve; its near vertices and its ends
+/// are along the border. A curve that only ends there, or leaves the surface across the border (its
+/// points beyond are near the border too, but their shadows bunch up), is not.
+inline std::vector<bool> vertices_along_border(const Curve_network& network, const std::vector<bool>& near,
+                                               const std::vector<Point_3>& shadow) {
+  std::vector<bool> along(network.number_of_vertices(), false);
+  for (const auto& curve : network.curves()) {
+    const auto& cv = curve.vertices;
+    double length = 0, shadow_length = 0;
+    for (std::size_t i = 0; i + 1 < cv.size(); ++i) {
+      length += std::sqrt(CGAL::squared_distance(network.point(cv[i]), network.point(cv[i + 1])));
+      if (near[cv[i]] && near[cv[i + 1]]) shadow_length += std::sqrt(CGAL::squared_distance(shadow[cv[i]], shadow[cv[i + 1]]));
+    }
+    if (length > 0 && 2 * shadow_length >= length)
+      for (std::size_t v : cv) along[v] = along[v] || near[v] || v == cv.front() || v == cv.back();
+  }
+  return along;
+}
+
 /// What approach_curves did.
 struct Approach_result {
   std::size_t constraints = 0;  ///< template vertices given a displacement
@@ -600,7 +623,7 @@ class Icp_approach {
       std::vector<Soft_displacement> constraints =
           surface_constraints(network, pairs, before, step == 0 ? tree : nullptr, surface_point);
       if (step == 0) {
-        along_border = vertices_along_border(network, before, surface_point);
+        along_border = along_border_at(network, before, surface_point);
         free_slope_across_border_in_network(network, before);
       }
       attach_to_border(network, before, constraints);
@@ -687,14 +710,11 @@ class Icp_approach {
 
   // The network vertices of curves that run along the border, as step 1 of the fine level judges
   // them (Surface_fine_level::place_border_vertices): a vertex is near the border when it is
-  // nearer to it than half a border edge more than to its surface point, and a curve runs along
-  // the border when the path of its near vertices' nearest border points is at least half as long
-  // as the curve; its near vertices and its ends are along the border.
-  std::vector<bool> vertices_along_border(const Curve_network& network, const std::vector<Point_3>& p,
-                                          const std::vector<Point_3>& surface_point) const {
+  // nearer to it than half a border edge more than to its surface point (vertices_along_border).
+  std::vector<bool> along_border_at(const Curve_network& network, const std::vector<Point_3>& p,
+                                    const std::vector<Point_3>& surface_point) const {
     const std::size_t nv = network.number_of_vertices();
-    std::vector<bool> along(nv, false);
-    if (border_edges.empty()) return along;
+    if (border_edges.empty()) return std::vector<bool>(nv, false);
     std::vector<bool> near(nv, false);
     std::vector<Point_3> shadow(nv);
     for (std::size_t v = 0; v < nv; ++v) {
@@ -703,17 +723,7 @@ class Icp_approach {
       const Point_3 &a = p[border_edges[b.edge][0]], &c = p[border_edges[b.edge][1]];
       shadow[v] = a + b.u * (c - a);
     }
-    for (const auto& curve : network.curves()) {
-      const auto& cv = curve.vertices;
-      double length = 0, shadow_length = 0;
-      for (std::size_t i = 0; i + 1 < cv.size(); ++i) {
-        length += std::sqrt(CGAL::squared_distance(network.point(cv[i]), network.point(cv[i + 1])));
-        if (near[cv[i]] && near[cv[i + 1]]) shadow_length += std::sqrt(CGAL::squared_distance(shadow[cv[i]], shadow[cv[i + 1]]));
-      }
-      if (length > 0 && 2 * shadow_length >= length)
-        for (std::size_t v : cv) along[v] = along[v] || near[v] || v == cv.front() || v == cv.back();
-    }
-    return along;
+    return vertices_along_border(network, near, shadow);
   }
 
   // The vertices along the border (along_border) ask that their nearest border point, rather than
