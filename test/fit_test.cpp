@@ -170,6 +170,17 @@ TEST_CASE("fit: an open template fitted to a network that includes its boundary"
   CHECK(r.partition.regions == 4);
 }
 
+namespace {
+// The unit square as an n x n grid template (vertex (i, j) = j (n + 1) + i).
+Mesh unit_square(std::size_t n) {
+  Mesh tm;
+  meshfit::Mesh_data sheet = meshfit_test::grid(n);
+  for (auto& p : sheet.points) p = meshfit::Point_3(p.x() / double(n), p.y() / double(n), 0);
+  meshfit::build_triangle_mesh(sheet, tm);
+  return tm;
+}
+}  // namespace
+
 TEST_CASE("fit: an open grid onto a larger saddle: curves leaving the coarse surface stay inside", "[fit][open]") {
   // The template is the unit square; the network is the square [-0.08, 1.08]² lifted onto a saddle,
   // its boundary and two lines each way, all sampled at the same parameters (crossings are the
@@ -178,10 +189,7 @@ TEST_CASE("fit: an open grid onto a larger saddle: curves leaving the coarse sur
   // nearest points on it. Oracles of this test's own: every segment is a path of mesh edges whose
   // vertices lie on it, the faces fall into 9 regions across those edges, and no face turns over
   // (the saddle is a height field, every face must keep facing +z); and the shared oracle's.
-  Mesh tm;
-  meshfit::Mesh_data sheet = meshfit_test::grid(24);
-  for (auto& p : sheet.points) p = meshfit::Point_3(p.x() / 24, p.y() / 24, 0);
-  meshfit::build_triangle_mesh(sheet, tm);
+  Mesh tm = unit_square(24);
   const Mesh template_mesh = tm;
   auto lift = [](double x, double y) { return meshfit::Point_3(x, y, 0.5 * ((x - 0.5) * (x - 0.5) - (y - 0.5) * (y - 0.5))); };
   const std::vector<double> t = {-0.08, 0.05, 0.15, 0.3, 0.5, 0.7, 0.85, 0.95, 1.08};
@@ -275,10 +283,7 @@ TEST_CASE("fit: an open grid onto a saddle whose boundary is in the network foll
   // ended the battery's open-plane-saddle-boundary 1.04 % of the diagonal from the truth (0.48 %
   // now; here 0.49 %). Oracles: the shared one (9 regions), and every vertex's height against
   // the saddle's there.
-  Mesh tm;
-  meshfit::Mesh_data sheet = meshfit_test::grid(24);
-  for (auto& p : sheet.points) p = meshfit::Point_3(p.x() / 24, p.y() / 24, 0);
-  meshfit::build_triangle_mesh(sheet, tm);
+  Mesh tm = unit_square(24);
   const Mesh template_mesh = tm;
   auto height = [](double x, double y) { return 0.7 * ((x - 0.5) * (x - 0.5) - (y - 0.5) * (y - 0.5)); };
   auto lift = [&](double x, double y) { return meshfit::Point_3(x, y, height(x, y)); };

@@ -496,8 +496,8 @@ Smoothing_report modified_laplacian_flow(TriangleMesh& tm,
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{smoothing_tolerance}
 ///     \cgalParamDescription{a phase ends after an iteration that moves no vertex farther than this times the mean edge
-///       length at the call: the iterations counts are the most each phase makes (the report's `iterations` says how
-///       many were made)}
+///       length at the phase's start: the iteration counts are the most each phase makes (the report's `iterations`
+///       says how many were made)}
 ///     \cgalParamType{`double`, not negative}
 ///     \cgalParamDefault{\default_smoothing_tolerance}
 ///     \cgalParamExtra{Zero makes every iteration; a negative or non-finite value throws meshfit::Invalid_input.}

@@ -38,10 +38,12 @@ struct Smoothing_arrays {
 /// smooth_fitted_mesh's iterations in all when `number_of_iterations` is not given.
 constexpr std::size_t default_smoothing_iterations = 100;
 /// smooth_fitted_mesh's `smoothing_tolerance` when it is not given: a phase ends after an
-/// iteration that moves no vertex farther than this times the mean edge length. On the battery's
-/// and the scale cases the smallest angle and its 5th percentile change by less than half a degree
-/// between 20 and 100 iterations, while the largest move per iteration falls below a hundredth of
-/// an edge after about 3 mean curvature and 35 Laplacian iterations.
+/// iteration that moves no vertex farther than this times the mean edge length. On four battery
+/// cases (dense10 bumpy and superellipsoid, 2562- and 10 242-vertex lat/long) the smallest angle
+/// and its 5th percentile change by less than 0.6 degrees between 20 and 100 iterations; on the
+/// 81 920-face scale case the largest move falls below a hundredth of an edge after 3 mean
+/// curvature and 39 Laplacian iterations (the full battery: same passes, angles within 0.4
+/// degrees but one 1.4 higher, Hausdorff within 0.03 % of the diagonal).
 constexpr double default_smoothing_tolerance = 0.01;
 /// laplacian_flow's `number_of_iterations` when it is not given.
 constexpr std::size_t default_laplacian_flow_iterations = 20;
