@@ -78,6 +78,7 @@ TEST_CASE("cli: the help gives each option's default as the library has it", "[c
   CHECK(default_in_help("--iterations") == std::to_string(meshfit::internal::default_smoothing_iterations));
   CHECK(std::stod(default_in_help("--merge-tolerance")) == meshfit::default_merge_tolerance);
   CHECK(std::stod(default_in_help("--step")) == meshfit::internal::Flow_settings().step);
+  CHECK(std::stod(default_in_help("--smooth-tolerance")) == meshfit::internal::default_smoothing_tolerance);
 }
 
 TEST_CASE("cli: usage errors exit with status 2", "[cli]") {
@@ -277,6 +278,10 @@ TEST_CASE("cli: smooth holds the curves fixed and keeps regions and curve edges"
     const std::string args = " --template " + q(deformed) + " --output " + q(dir.file("o.off"));
     CHECK(run(dir, "smooth" + args + " --step 2").status == 2);
     CHECK(run(dir, "smooth" + args + " --step 0").status == 2);
+    const Run_result negative = run(dir, "smooth" + args + " --smooth-tolerance -0.1");
+    CHECK(negative.status == 2);
+    CHECK(negative.err.find("--smooth-tolerance") != std::string::npos);
+    CHECK(run(dir, "smooth" + args + " --smooth-tolerance nan").status == 2);
     CHECK(run(dir, "smooth" + args + " --iterations -1").status == 2);
     CHECK(run(dir, "smooth" + args + " --mc-iterations many").status == 2);
     CHECK(run(dir, "smooth" + args + " --correspondences p.txt").status == 2);
