@@ -316,16 +316,10 @@ void Surface_fine_level::project_network() {
 }
 
 Surface_fine_level::Border_point Surface_fine_level::nearest_border_point(const Point_3& p) const {
-  Border_point best;
-  for (auto h : border) {
-    const Point_3 a = s.to_point(source(h, tm)), b = s.to_point(target(h, tm));
-    const Vector_3 ab = b - a;
-    const double len2 = ab.squared_length();
-    const double u = len2 > 0 ? std::min(1.0, std::max(0.0, ((p - a) * ab) / len2)) : 0.0;
-    const double d2 = CGAL::squared_distance(p, a + u * ab);
-    if (d2 < best.d2) best = {h, d2, u, std::sqrt(len2)};
-  }
-  return best;
+  const Nearest_on_segments b = nearest_on_segments(
+      border.size(),
+      [&](std::size_t k) { return std::pair(s.to_point(source(border[k], tm)), s.to_point(target(border[k], tm))); }, p);
+  return border.empty() ? Border_point{} : Border_point{border[b.k], b.d2, b.u, b.length};
 }
 
 void Surface_fine_level::place_border_vertices() {

@@ -379,14 +379,22 @@ void apply_thread_limit(const Command_line& cl) {
   meshfit::set_number_of_threads(static_cast<int>(v));
 }
 
-double merge_tolerance(const Command_line& cl) {
-  const auto it = cl.values.find("--merge-tolerance");
-  if (it == cl.values.end()) return meshfit::default_merge_tolerance;
+// A number option's value, or `fallback` when it is not given; a usage error saying `range` when
+// the value is not a number or `in_range` refuses it.
+template <typename In_range>
+double number_option(const Command_line& cl, const char* name, double fallback, In_range in_range, const char* range) {
+  const auto it = cl.values.find(name);
+  if (it == cl.values.end()) return fallback;
   char* end = nullptr;
   const double v = std::strtod(it->second.c_str(), &end);
-  if (end == it->second.c_str() || *end != '\0' || !(v >= 1e-15 && v <= 1e-2))
-    throw Usage_error{"--merge-tolerance needs a number from 1e-15 to 1e-2, not '" + it->second + "'"};
+  if (end == it->second.c_str() || *end != '\0' || !in_range(v))
+    throw Usage_error{std::string(name) + " needs a number " + range + ", not '" + it->second + "'"};
   return v;
+}
+
+double merge_tolerance(const Command_line& cl) {
+  return number_option(cl, "--merge-tolerance", meshfit::default_merge_tolerance,
+                       [](double v) { return v >= 1e-15 && v <= 1e-2; }, "from 1e-15 to 1e-2");
 }
 
 int run_check(const Command_line& cl) {
@@ -1106,20 +1114,9 @@ Smooth_options smooth_options(const Command_line& cl) {
   const auto phases = meshfit::internal::smoothing_phases(CGAL::parameters::number_of_iterations(total));
   o.mean_curvature_iterations = count_option(cl, "--mc-iterations", static_cast<long>(phases.mean_curvature), 100000);
   o.laplacian_iterations = count_option(cl, "--laplacian-iterations", static_cast<long>(phases.laplacian), 100000);
-  if (cl.values.count("--step")) {
-    const std::string& x = cl.values.at("--step");
-    char* end = nullptr;
-    o.step = std::strtod(x.c_str(), &end);
-    if (end == x.c_str() || *end != '\0' || !(o.step > 0 && o.step <= 1))
-      throw Usage_error{"--step needs a number in (0, 1], not '" + x + "'"};
-  }
-  if (cl.values.count("--smooth-tolerance")) {
-    const std::string& x = cl.values.at("--smooth-tolerance");
-    char* end = nullptr;
-    o.tolerance = std::strtod(x.c_str(), &end);
-    if (end == x.c_str() || *end != '\0' || !(std::isfinite(o.tolerance) && o.tolerance >= 0))
-      throw Usage_error{"--smooth-tolerance needs a number not below 0, not '" + x + "'"};
-  }
+  o.step = number_option(cl, "--step", o.step, [](double v) { return v > 0 && v <= 1; }, "in (0, 1]");
+  o.tolerance = number_option(cl, "--smooth-tolerance", o.tolerance,
+                              [](double v) { return std::isfinite(v) && v >= 0; }, "not below 0");
   return o;
 }
 

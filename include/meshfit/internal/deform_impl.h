@@ -37,7 +37,6 @@
 #include <limits>
 #include <optional>
 #include <queue>
-#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -478,6 +477,27 @@ inline void check_pairs(const std::vector<Correspondence>& pairs, std::size_t te
   }
 }
 
+/// The nearest point to q on segments a_k b_k, k < count (`ends(k)` gives the pair of points):
+/// the segment `k`, the point's parameter `u` from a_k, its squared distance `d2` and the
+/// segment's `length`. Used on a mesh's border edges.
+struct Nearest_on_segments {
+  std::size_t k = 0;
+  double u = 0, d2 = std::numeric_limits<double>::infinity(), length = 0;
+};
+template <typename Ends>
+Nearest_on_segments nearest_on_segments(std::size_t count, const Ends& ends, const Point_3& q) {
+  Nearest_on_segments best;
+  for (std::size_t k = 0; k < count; ++k) {
+    const auto [a, b] = ends(k);
+    const Vector_3 ab = b - a;
+    const double len2 = ab.squared_length();
+    const double u = len2 > 0 ? std::min(1.0, std::max(0.0, ((q - a) * ab) / len2)) : 0.0;
+    const double d2 = CGAL::squared_distance(q, a + u * ab);
+    if (d2 < best.d2) best = {k, u, d2, std::sqrt(len2)};
+  }
+  return best;
+}
+
 /// The network vertices of the curves that run along a mesh's border, given for each network
 /// vertex whether it is near the border (`near`) and its nearest border point (`shadow`): a curve
 /// (network.curves()) runs along the border when its shadow there (the path of the shadows of its
@@ -689,23 +709,10 @@ class Icp_approach {
     return constraints;
   }
 
-  // The nearest point to p on the border (border_edges[edge] at parameter u from its source), and
-  // its squared distance and the edge's length.
-  struct Border_point {
-    std::size_t edge = 0;
-    double u = 0, d2 = std::numeric_limits<double>::infinity(), length = 0;
-  };
-  Border_point nearest_border_point(const std::vector<Point_3>& p, const Point_3& q) const {
-    Border_point best;
-    for (std::size_t k = 0; k < border_edges.size(); ++k) {
-      const Point_3 &a = p[border_edges[k][0]], &b = p[border_edges[k][1]];
-      const Vector_3 ab = b - a;
-      const double len2 = ab.squared_length();
-      const double u = len2 > 0 ? std::clamp(((q - a) * ab) / len2, 0.0, 1.0) : 0.0;
-      const double d2 = CGAL::squared_distance(q, a + u * ab);
-      if (d2 < best.d2) best = {k, u, d2, std::sqrt(len2)};
-    }
-    return best;
+  // The nearest point to q on the border at positions p (border_edges[k] at parameter u).
+  Nearest_on_segments nearest_border_point(const std::vector<Point_3>& p, const Point_3& q) const {
+    return nearest_on_segments(
+        border_edges.size(), [&](std::size_t k) { return std::pair(p[border_edges[k][0]], p[border_edges[k][1]]); }, q);
   }
 
   // The network vertices of curves that run along the border, as step 1 of the fine level judges
@@ -718,9 +725,9 @@ class Icp_approach {
     std::vector<bool> near(nv, false);
     std::vector<Point_3> shadow(nv);
     for (std::size_t v = 0; v < nv; ++v) {
-      const Border_point b = nearest_border_point(p, network.point(v));
+      const Nearest_on_segments b = nearest_border_point(p, network.point(v));
       near[v] = std::sqrt(b.d2) <= std::sqrt(CGAL::squared_distance(network.point(v), surface_point[v])) + 0.5 * b.length;
-      const Point_3 &a = p[border_edges[b.edge][0]], &c = p[border_edges[b.edge][1]];
+      const Point_3 &a = p[border_edges[b.k][0]], &c = p[border_edges[b.k][1]];
       shadow[v] = a + b.u * (c - a);
     }
     return vertices_along_border(network, near, shadow);
@@ -734,8 +741,8 @@ class Icp_approach {
                         std::vector<Soft_displacement>& constraints) const {
     for (std::size_t v = 0; v < along_border.size(); ++v) {
       if (!along_border[v]) continue;
-      const Border_point b = nearest_border_point(p, network.point(v));
-      const auto& e = border_edges[b.edge];
+      const Nearest_on_segments b = nearest_border_point(p, network.point(v));
+      const auto& e = border_edges[b.k];
       const Point_3 on = p[e[0]] + b.u * (p[e[1]] - p[e[0]]);
       constraints[v] = {{e[0], e[1], e[0]}, {1 - b.u, b.u, 0}, network.point(v) - on, 1};
     }
@@ -751,15 +758,15 @@ class Icp_approach {
     std::vector<bool> in_network(loops, false);
     bool any = false;
     for (std::size_t v = 0; v < along_border.size(); ++v)
-      if (along_border[v]) any = in_network[border_loop[nearest_border_point(p, network.point(v)).edge]] = true;
+      if (along_border[v]) any = in_network[border_loop[nearest_border_point(p, network.point(v)).k]] = true;
     if (!any) return;
-    std::set<std::pair<std::size_t, std::size_t>> edge;
-    for (std::size_t k = 0; k < border_edges.size(); ++k)
-      if (in_network[border_loop[k]]) edge.insert(std::minmax(border_edges[k][0], border_edges[k][1]));
     adjacency.border_edge.assign(adjacency.neighbours.size(), false);
-    for (std::size_t i = 0; i < n; ++i)
-      for (std::size_t m = adjacency.offsets[i]; m < adjacency.offsets[i + 1]; ++m)
-        adjacency.border_edge[m] = edge.count(std::minmax(i, adjacency.neighbours[m])) > 0;
+    auto flag = [&](std::size_t a, std::size_t b) {
+      for (std::size_t m = adjacency.offsets[a]; m < adjacency.offsets[a + 1]; ++m)
+        if (adjacency.neighbours[m] == b) adjacency.border_edge[m] = true;
+    };
+    for (std::size_t k = 0; k < border_edges.size(); ++k)
+      if (in_network[border_loop[k]]) flag(border_edges[k][0], border_edges[k][1]), flag(border_edges[k][1], border_edges[k][0]);
   }
 
   // The faces turned over against their normals before the step, then those beside a folded edge;
