@@ -3,6 +3,8 @@
 #include "malformed_catalogue.h"
 #include "test_helpers.h"
 
+namespace meshfit_check_test {  // one per file: the test files are compiled together (test/CMakeLists.txt)
+
 using namespace meshfit_test;
 
 TEST_CASE("check: the embedded example is valid and summarised", "[check][example]") {
@@ -82,3 +84,5 @@ TEST_CASE("check: the smallest angle of a mesh, in degrees", "[check]") {
   m.triangles.push_back({0, 4, 1});
   CHECK(meshfit::minimum_angle_degrees(m) == 0);
 }
+
+}  // namespace meshfit_check_test

@@ -25,6 +25,8 @@
 #include <set>
 #include <sstream>
 
+namespace meshfit_cli_ecosystem_test {  // one per file: the test files are compiled together (test/CMakeLists.txt)
+
 using namespace meshfit_test;
 using Json = nlohmann::json;
 
@@ -1057,3 +1059,5 @@ TEST_CASE("cli ecosystem: a report named like an output is refused with a messag
   CHECK(input.status == 1);
   CHECK(input.err.find("the output is the input file") != std::string::npos);
 }
+
+}  // namespace meshfit_cli_ecosystem_test

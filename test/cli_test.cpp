@@ -12,6 +12,8 @@
 #include <chrono>
 #include <fstream>
 
+namespace meshfit_cli_test {  // one per file: the test files are compiled together (test/CMakeLists.txt)
+
 using namespace meshfit_test;
 
 namespace {
@@ -397,3 +399,5 @@ TEST_CASE("cli: fit fed each malformed input exits 1, writes no output and a rep
     }
   }
 }
+
+}  // namespace meshfit_cli_test

@@ -4,6 +4,8 @@
 
 #include <random>
 
+namespace meshfit_closest_point_test {  // one per file: the test files are compiled together (test/CMakeLists.txt)
+
 using meshfit::Closest_point_assignment;
 using meshfit::Curve_network;
 using meshfit::Point_3;
@@ -62,3 +64,5 @@ TEST_CASE("closest point: fixed pairs keep their vertices", "[correspondence][cl
   CHECK(a.template_of[1] == 0);
   CHECK(a.template_of[0] != 0);
 }
+
+}  // namespace meshfit_closest_point_test

@@ -3,6 +3,8 @@
 #include "malformed_catalogue.h"
 #include "test_helpers.h"
 
+namespace meshfit_correspondence_test {  // one per file: the test files are compiled together (test/CMakeLists.txt)
+
 using namespace meshfit_test;
 
 namespace {
@@ -59,3 +61,5 @@ TEST_CASE("correspondence: write then read gives the same pairs", "[corresponden
   meshfit::write_correspondences(dir.file("p.txt"), pairs, network());
   CHECK(meshfit::read_correspondences(dir.file("p.txt"), network()) == pairs);
 }
+
+}  // namespace meshfit_correspondence_test

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <random>
 
+namespace meshfit_curve_network_test {  // one per file: the test files are compiled together (test/CMakeLists.txt)
+
 using meshfit::Curve_network;
 using meshfit::Point_3;
 using meshfit::Vector_3;
@@ -174,3 +176,5 @@ TEST_CASE("curve network: merging agrees with a brute-force merge on clustered p
   CHECK(vertices.size() > 60);  // the clusters were not all merged into one vertex each
   CHECK(vertices.size() < got.size());  // and some points were merged
 }
+
+}  // namespace meshfit_curve_network_test

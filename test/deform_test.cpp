@@ -16,6 +16,8 @@
 #include <algorithm>
 #include <set>
 
+namespace meshfit_deform_test {  // one per file: the test files are compiled together (test/CMakeLists.txt)
+
 using Mesh = CGAL::Surface_mesh<meshfit::Point_3>;
 using meshfit::Closest_point_assignment;
 
@@ -743,3 +745,5 @@ TEST_CASE("deform: curves sampled far more densely than the template's edges are
   CHECK(after.points == before.points);
   CHECK(after.triangles == before.triangles);
 }
+
+}  // namespace meshfit_deform_test

@@ -7,6 +7,8 @@
 
 #include "test_helpers.h"
 
+namespace meshfit_degenerate_test {  // one per file: the test files are compiled together (test/CMakeLists.txt)
+
 using Mesh = CGAL::Surface_mesh<meshfit::Point_3>;
 using meshfit::Point_3;
 
@@ -230,3 +232,5 @@ TEST_CASE("degenerate: repeated runs give byte-identical output", "[degenerate][
   CHECK(!text[0].empty());
   CHECK(text[0] == text[1]);
 }
+
+}  // namespace meshfit_degenerate_test

@@ -8,6 +8,8 @@
 #include <map>
 #include <utility>
 
+namespace meshfit_displacement_test {  // one per file: the test files are compiled together (test/CMakeLists.txt)
+
 using meshfit::Vector_3;
 using meshfit::Vertex_adjacency;
 
@@ -346,3 +348,5 @@ TEST_CASE("displacement: a harmonic field given on an open grid's border comes b
   a.border_edge.pop_back();
   CHECK_THROWS_AS(meshfit::interpolate_displacements(a, held, given, 2), meshfit::Invalid_input);
 }
+
+}  // namespace meshfit_displacement_test

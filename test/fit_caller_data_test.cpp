@@ -30,6 +30,8 @@
 #include <tuple>
 #include <type_traits>
 
+namespace meshfit_fit_caller_data_test {  // one per file: the test files are compiled together (test/CMakeLists.txt)
+
 using Mesh = CGAL::Surface_mesh<meshfit::Point_3>;
 using Poly = CGAL::Polyhedron_3<meshfit::Kernel>;
 using V = Mesh::Vertex_index;
@@ -876,3 +878,5 @@ TEST_CASE("kernels: a Simple_cartesian<double> Surface_mesh goes through every s
     ++i;
   }
 }
+
+}  // namespace meshfit_fit_caller_data_test

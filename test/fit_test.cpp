@@ -13,6 +13,8 @@
 #include <map>
 #include <set>
 
+namespace meshfit_fit_test {  // one per file: the test files are compiled together (test/CMakeLists.txt)
+
 using Mesh = CGAL::Surface_mesh<meshfit::Point_3>;
 
 namespace {
@@ -746,3 +748,5 @@ TEST_CASE("fit: a template that intersects itself does not excuse new intersecti
   REQUIRE(v.problems().size() == 1);
   CHECK(v.problems()[0] == "the result intersects itself (the template does not)");
 }
+
+}  // namespace meshfit_fit_test

@@ -10,6 +10,8 @@
 #include <iomanip>
 #include <random>
 
+namespace meshfit_flip_test {  // one per file: the test files are compiled together (test/CMakeLists.txt)
+
 using meshfit::Flip_state;
 using meshfit::Point_3;
 using meshfit::Triangle_points;
@@ -158,3 +160,5 @@ TEST_CASE("predicates: edge_folds says whether two faces across an edge turn mor
     CHECK(meshfit::edge_folds(tm, h, [&](auto v) { return tm.point(v); }) == (degrees > 90));
   }
 }
+
+}  // namespace meshfit_flip_test

@@ -14,6 +14,8 @@
 #include <map>
 #include <set>
 
+namespace meshfit_io_interop_test {  // one per file: the test files are compiled together (test/CMakeLists.txt)
+
 using namespace meshfit_test;
 using Mesh = CGAL::Surface_mesh<meshfit::Point_3>;
 
@@ -263,3 +265,5 @@ TEST_CASE("io interop: a PLY edge element without a curve flag is skipped whatev
       },
       9, "vertex1 and vertex2");
 }
+
+}  // namespace meshfit_io_interop_test

@@ -15,6 +15,8 @@
 #include <filesystem>
 #include <sstream>
 
+namespace meshfit_io_test {  // one per file: the test files are compiled together (test/CMakeLists.txt)
+
 using namespace meshfit_test;
 using meshfit::Mesh_data;
 using meshfit::Mesh_format;
@@ -722,3 +724,5 @@ TEST_CASE("io: the region directory is checked before writing and region files a
   for (const auto& e : std::filesystem::directory_iterator(dir.file("new"))) entries += (void(e), 1);
   CHECK(entries == 2);
 }
+
+}  // namespace meshfit_io_test

@@ -33,6 +33,8 @@
 #include <type_traits>
 #include <vector>
 
+namespace meshfit_parameters_test {  // one per file: the test files are compiled together (test/CMakeLists.txt)
+
 namespace {
 
 namespace np = meshfit::internal_np;
@@ -459,3 +461,5 @@ TEST_CASE("parameters: the reference shows the code's defaults, read from the co
         iterations([](Surface& tm) { return meshfit::modified_laplacian_flow(tm); }));
 #endif
 }
+
+}  // namespace meshfit_parameters_test

@@ -23,6 +23,8 @@
 #include <random>
 #include <set>
 
+namespace meshfit_partition_test {  // one per file: the test files are compiled together (test/CMakeLists.txt)
+
 using Mesh = CGAL::Surface_mesh<meshfit::Point_3>;
 using meshfit::Point_3;
 using meshfit::Vector_3;
@@ -490,3 +492,5 @@ TEST_CASE("partition: a network vertex that is not a mesh vertex is an error nam
   const auto net = network_of({{Point_3(0, 0, 0), Point_3(1.5, 2, 0)}});
   meshfit_test::require_invalid([&] { meshfit::partition_mesh(tm, net); }, 0, "network vertex 1 (1.5");
 }
+
+}  // namespace meshfit_partition_test

@@ -7,6 +7,8 @@
 #include <random>
 #include <sstream>
 
+namespace meshfit_rbf_test {  // one per file: the test files are compiled together (test/CMakeLists.txt)
+
 using meshfit::Point_3;
 using meshfit::Rbf_interpolant;
 using meshfit::Rbf_kernel;
@@ -291,3 +293,5 @@ TEST_CASE("rbf: the fast kernel agrees with the portable one", "[rbf]") {
     CHECK(err < 1e-12);
   }
 }
+
+}  // namespace meshfit_rbf_test

@@ -27,6 +27,8 @@
 #include <fstream>
 #include <optional>
 
+namespace meshfit_reliability_test {  // one per file: the test files are compiled together (test/CMakeLists.txt)
+
 using Mesh = CGAL::Surface_mesh<meshfit::Point_3>;
 using meshfit::Point_3;
 using namespace meshfit_test;
@@ -494,3 +496,5 @@ TEST_CASE("messages: numbers with significant digits", "[messages]") {
   CHECK(meshfit::internal::format_number(0.25) == "0.25");
   CHECK(meshfit::format_bytes(3.79e9) == "3.79 GB");
 }
+
+}  // namespace meshfit_reliability_test

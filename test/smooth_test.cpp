@@ -21,6 +21,8 @@
 #include <tuple>
 #include <sstream>
 
+namespace meshfit_smooth_test {  // one per file: the test files are compiled together (test/CMakeLists.txt)
+
 using Mesh = CGAL::Surface_mesh<meshfit::Point_3>;
 using meshfit::Point_3;
 using meshfit::Vector_3;
@@ -632,3 +634,5 @@ TEST_CASE("smooth: CGAL's elephant keeps its volume and shape under the combined
   CHECK(std::abs(1 - ratio) < 0.5 * std::abs(1 - lap_ratio));
 }
 #endif
+
+}  // namespace meshfit_smooth_test

@@ -18,6 +18,8 @@
 
 #include <catch2/catch.hpp>
 
+namespace meshfit_threads_test {  // one per file: the test files are compiled together (test/CMakeLists.txt)
+
 extern "C" int openblas_get_num_threads(void);
 
 TEST_CASE("threads: set_number_of_threads limits OpenMP and OpenBLAS and refuses fewer than one", "[threads]") {
@@ -93,3 +95,5 @@ TEST_CASE("threads: the number_of_threads parameter limits each stage for its ca
                   meshfit::Algorithm_failure);
   CHECK(meshfit::number_of_threads() == before);
 }
+
+}  // namespace meshfit_threads_test

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <random>
 
+namespace meshfit_untangle_test {  // one per file: the test files are compiled together (test/CMakeLists.txt)
+
 using meshfit::Point_3;
 using meshfit::Vector_3;
 
@@ -152,3 +154,5 @@ TEST_CASE("untangle: mismatched sizes, zero normals and a negative fairness are 
   CHECK_THROWS_AS(meshfit::untangle_faces(g.points, g.faces, fn, g.free, zero), meshfit::Invalid_input);
   CHECK_THROWS_AS(meshfit::untangle_faces(g.points, g.faces, fn, g.free, vn, -1.0), meshfit::Invalid_input);
 }
+
+}  // namespace meshfit_untangle_test
