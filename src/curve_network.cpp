@@ -11,7 +11,9 @@
 
 #include <boost/graph/adjacency_list.hpp>
 // Boost's planarity test trips GCC 12's -Wmaybe-uninitialized inside its own headers
-// (bicomp_root, previous_vertex in extract_kuratowski_subgraph), for the whole file.
+// (bicomp_root, previous_vertex in extract_kuratowski_subgraph), for the whole file; popped at its
+// end, so that the files compiled after it in a unity build (MESHFIT_UNITY_BUILD) keep the warning.
+#pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include <boost/graph/boyer_myrvold_planar_test.hpp>
 
@@ -610,3 +612,5 @@ Resampled_network resample_long_segments(const Curve_network& network, double sp
 
 }  // namespace internal
 }  // namespace meshfit
+
+#pragma GCC diagnostic pop

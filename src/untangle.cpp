@@ -150,7 +150,7 @@ std::optional<Patch> make_patch(const std::vector<Point_3>& positions, const std
   for (std::size_t v : global) {
     patch.start.push_back((Eigen::Vector3d(positions[v].x(), positions[v].y(), positions[v].z()) - centre) / unit);
     patch.variable.push_back(free[v] ? variables : -1);
-    patch.plane.push_back({});
+    patch.plane.push_back({Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()});  // a held vertex has no plane
     if (!free[v]) continue;
     if (vertex_normal[v] == CGAL::NULL_VECTOR) throw Invalid_input("untangle: vertex " + std::to_string(v) + " has a zero normal");
     patch.plane.back() = tangent_frame(vertex_normal[v]);
