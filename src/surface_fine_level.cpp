@@ -99,11 +99,9 @@ class Surface_fine_level {
   // border edge is split, or a border vertex used), and a segment between two such vertices that
   // runs along the border becomes the border arc between them, rather than a chord cutting border
   // triangles off.
-  struct Border_point {
-    halfedge_descriptor h;
-    double d2 = std::numeric_limits<double>::infinity(), u = 0, length = 0;
-  };
-  Border_point nearest_border_point(const Point_3& p) const;
+  // The nearest point to p on the border: border[k] at parameter u from its source (the border
+  // must not be empty).
+  Nearest_on_segments nearest_border_point(const Point_3& p) const;
   void place_border_vertices();
   // The other network vertices, into the faces nearest their surface points.
   void place_inner_vertices();
@@ -315,11 +313,10 @@ void Surface_fine_level::project_network() {
   refuse_far_polylines(network, [&](std::size_t v) { return distance[v]; }, diag);
 }
 
-Surface_fine_level::Border_point Surface_fine_level::nearest_border_point(const Point_3& p) const {
-  const Nearest_on_segments b = nearest_on_segments(
+Nearest_on_segments Surface_fine_level::nearest_border_point(const Point_3& p) const {
+  return nearest_on_segments(
       border.size(),
       [&](std::size_t k) { return std::pair(s.to_point(source(border[k], tm)), s.to_point(target(border[k], tm))); }, p);
-  return border.empty() ? Border_point{} : Border_point{border[b.k], b.d2, b.u, b.length};
 }
 
 void Surface_fine_level::place_border_vertices() {
@@ -338,9 +335,9 @@ void Surface_fine_level::place_border_vertices() {
         shadow[v] = s.to_point(s.vertex[mesh_of[v]]);
         continue;
       }
-      const Border_point b = nearest_border_point(network.point(v));
+      const Nearest_on_segments b = nearest_border_point(network.point(v));
       near[v] = std::sqrt(b.d2) <= distance[v] + 0.5 * b.length;
-      const Point_3 a = s.to_point(source(b.h, tm)), c = s.to_point(target(b.h, tm));
+      const Point_3 a = s.to_point(source(border[b.k], tm)), c = s.to_point(target(border[b.k], tm));
       shadow[v] = a + b.u * (c - a);
     }
     on_border = vertices_along_border(network, near, shadow);
@@ -349,8 +346,8 @@ void Surface_fine_level::place_border_vertices() {
   }
   for (std::size_t v = 0; v < nv && !border.empty(); ++v) {
     if (mesh_of[v] != unassigned || !on_border[v]) continue;
-    const Border_point bp = nearest_border_point(network.point(v));
-    const auto best = bp.h;
+    const Nearest_on_segments bp = nearest_border_point(network.point(v));
+    const auto best = border[bp.k];
     const double best_u = bp.u;
     const vertex_descriptor near_end = best_u < 0.5 ? source(best, tm) : target(best, tm);
     const std::size_t e = get(s.index, near_end);
