@@ -592,8 +592,7 @@ Smoothing_report smooth_fitted_mesh(TriangleMesh& tm, const NamedParameters& np 
   const std::vector<double> before = fe.arrays.points;
   fe.arrays.reference_points.clear();  // the second phase projects onto the first one's result
   fe.arrays.orientation_points = before;
-  internal::run_flow(fe.arrays, first, report);
-  internal::run_flow(fe.arrays, second, report);
+  internal::run_flows(fe.arrays, {first, second}, report);
   internal::fill_displacements(before, fe.arrays.points, report);
   fe.write_back();
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -77,6 +77,9 @@ struct Flow_settings {
 ///         Numerical_error if a position became non-finite (the guards are meant to prevent it).
 void run_flow(Smoothing_arrays& mesh, const Flow_settings& settings, Smoothing_report& report);
 
+/// run_flow for each of `flows` in turn, on one copy of the connectivity and one set of work arrays.
+void run_flows(Smoothing_arrays& mesh, const std::vector<Flow_settings>& flows, Smoothing_report& report);
+
 /// Checks the arrays (finite coordinates, indices in range, no repeated corner).
 /// \throws Invalid_input naming the vertex or face.
 void check_smoothing_input(const Smoothing_arrays& mesh);
