@@ -33,7 +33,7 @@ namespace {
 class Surface_fine_level {
  public:
   Surface_fine_level(Work_mesh& tm, const Curve_network& network, const std::vector<Correspondence>& pairs,
-                     const Deform_options& options, bool split_for_paths)
+                     const Deform_options& options, bool split_for_paths, std::optional<Work_face_tree> tree)
       : split_for_paths(split_for_paths),
         tm(tm),
         network(network),
@@ -46,6 +46,7 @@ class Surface_fine_level {
         curve(get(CGAL::dynamic_edge_property_t<bool>(), tm)) {
     report.fine_level = Fine_level::surface;
     report.user_pairs = pairs.size();
+    coarse_tree = std::move(tree);
   }
 
   Deformation_report run() {
@@ -77,8 +78,7 @@ class Surface_fine_level {
   using edge_descriptor = GT::edge_descriptor;
   using face_descriptor = GT::face_descriptor;
   using VPM = boost::property_map<Work_mesh, CGAL::vertex_point_t>::type;
-  using Primitive = CGAL::AABB_face_graph_triangle_primitive<Work_mesh, VPM>;
-  using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+  using Tree = Work_face_tree;
   static constexpr std::size_t unassigned = Closest_point_assignment::unassigned;
 
   // The pairs are valid, and a network that is not planar cannot be drawn on a genus-0 template
@@ -246,7 +246,7 @@ class Surface_fine_level {
   std::vector<bool> reserved;        // mesh vertices taken by a network vertex
   std::vector<double> distance;      // network vertex -> its distance from the coarse surface
   std::vector<Point_3> surface_point;
-  std::optional<Tree> coarse_tree;  // built by project_network, rebuilt by place_inner_vertices's later passes
+  std::optional<Tree> coarse_tree;  // the caller's or built by project_network, rebuilt by place_inner_vertices's later passes
   std::vector<bool> on_border;  // network vertices placed on the template's border
   std::vector<halfedge_descriptor> border;
   std::vector<bool> is_network_vertex, on_chain;  // by mesh vertex
@@ -300,8 +300,10 @@ void Surface_fine_level::project_network() {
   report_progress(options.progress, "deform", "fine: placing the network vertices on the surface", 0, 4);
   template_vertices = s.vertex.size();
   distance.assign(nv, 0);
-  coarse_tree.emplace(faces(tm).first, faces(tm).second, tm, vpm);
-  coarse_tree->accelerate_distance_queries();
+  if (!coarse_tree) {  // else the caller's, at the points now
+    coarse_tree.emplace(faces(tm).first, faces(tm).second, tm, vpm);
+    coarse_tree->accelerate_distance_queries();
+  }
   surface_point = tracked_projections(tm, vpm, *coarse_tree, network, pairs, report.projections_off_nearest);
   // A polyline all of whose points are far from the surface cannot be embedded in it: say so
   // now, rather than after a long run.
@@ -1111,8 +1113,8 @@ void Surface_fine_level::finish() {
 
 Deformation_report fine_on_surface(Work_mesh& tm, const Curve_network& network,
                                    const std::vector<Correspondence>& pairs, const Deform_options& options,
-                                   bool split_for_paths) {
-  return Surface_fine_level(tm, network, pairs, options, split_for_paths).run();
+                                   bool split_for_paths, std::optional<Work_face_tree> tree) {
+  return Surface_fine_level(tm, network, pairs, options, split_for_paths, std::move(tree)).run();
 }
 
 }  // namespace internal

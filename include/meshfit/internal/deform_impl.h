@@ -631,9 +631,12 @@ class Icp_approach {
     }
   }
 
-  // `tree`: the face tree at the mesh's points now, or nullptr.
+  // `tree`: the face tree at the mesh's points now, or nullptr. `tree_after`, when given, receives
+  // the face tree the last step built when no motion followed it (it is then at the points after
+  // the approach); it is left empty otherwise.
   Approach_result run(const Curve_network& network, const std::vector<Correspondence>& pairs,
-                      const Face_tree<TriangleMesh, VPM>* tree) {
+                      const Face_tree<TriangleMesh, VPM>* tree,
+                      std::optional<Face_tree<TriangleMesh, VPM>>* tree_after = nullptr) {
     const double h = mean_edge_length(tm, vpm);
     Approach_result result;
     double stiffness = 10;
@@ -653,7 +656,10 @@ class Icp_approach {
       // cost 12 s and moved nothing that mattered).
       double largest_gap = 0;
       for (const Soft_displacement& c : constraints) largest_gap = std::max(largest_gap, c.target.squared_length());
-      if (largest_gap < 0.0625 * h * h) break;
+      if (largest_gap < 0.0625 * h * h) {
+        if (tree_after && own_tree) *tree_after = std::move(own_tree);
+        break;
+      }
       // A large mesh's steps are sought in a coarse space (built at the first step's positions).
       if (n >= coarse_from_vertices && coarse.nodes == 0) {
         std::vector<Vector_3> face_normal, vertex_normal;
@@ -683,15 +689,15 @@ class Icp_approach {
 
   // Every network vertex's surface point (tracked along the curves: tracked_projections), asked
   // to move onto the vertex: a constraint on the point of its face, by barycentric weights.
-  // `tree`: the face tree at `before`, or nullptr (one is built).
+  // `tree`: the face tree at `before`, or nullptr (one is built, in own_tree).
   std::vector<Soft_displacement> surface_constraints(const Curve_network& network, const std::vector<Correspondence>& pairs,
                                                      const std::vector<Point_3>& before,
                                                      const Face_tree<TriangleMesh, VPM>* given,
-                                                     std::vector<Point_3>& surface_point) const {
+                                                     std::vector<Point_3>& surface_point) {
     std::vector<Soft_displacement> constraints;
-    Face_tree<TriangleMesh, VPM> own;
-    if (!given) build_face_tree(tm, vpm, own);
-    const Face_tree<TriangleMesh, VPM>& tree = given ? *given : own;
+    own_tree.reset();
+    if (!given) build_face_tree(tm, vpm, own_tree.emplace());
+    const Face_tree<TriangleMesh, VPM>& tree = given ? *given : *own_tree;
     std::size_t off_nearest = 0;
     surface_point = tracked_projections(tm, vpm, tree, network, pairs, off_nearest);
     for (std::size_t v = 0; v < network.number_of_vertices(); ++v) {
@@ -869,6 +875,7 @@ class Icp_approach {
   std::vector<std::size_t> border_loop;                  // each border edge's loop
   std::size_t loops = 0;
   std::vector<bool> along_border;  // by network vertex, judged at the first step (vertices_along_border)
+  std::optional<Face_tree<TriangleMesh, VPM>> own_tree;  // built by the last surface_constraints without a tree
 };
 
 /// Non-rigid ICP: brings the coarse surface towards the curves in up to six steps of falling
@@ -888,19 +895,26 @@ class Icp_approach {
 /// units (uniform Laplacian, barycentric weights; the coarse space's weights are ratios of
 /// distances): the motion does not depend on where the inputs are placed. `tree`, when given, is
 /// the face tree of `tm` at its points at the call (build_face_tree), used for the first step.
+/// `tree_after`, when given, receives the face tree at the points after the approach when the
+/// approach built one there (its last step measured the gap and moved nothing); else it is left
+/// empty.
 template <typename TriangleMesh, typename VPM>
 Approach_result approach_curves_icp(TriangleMesh& tm, const VPM& vpm, const Curve_network& network,
                                     const std::vector<Correspondence>& pairs,
-                                    const Face_tree<TriangleMesh, VPM>* tree = nullptr) {
-  return Icp_approach<TriangleMesh, VPM>(tm, vpm).run(network, pairs, tree);
+                                    const Face_tree<TriangleMesh, VPM>* tree = nullptr,
+                                    std::optional<Face_tree<TriangleMesh, VPM>>* tree_after = nullptr) {
+  return Icp_approach<TriangleMesh, VPM>(tm, vpm).run(network, pairs, tree, tree_after);
 }
 
 /// deform_fine_on_surface on the network as it is (its long segments not cut); compiled once in
 /// src/surface_fine_level.cpp. With `split_for_paths`, a segment whose ends the other chains wall
 /// off is given a path through the edges that join two chain vertices, split for it (a fallback:
-/// deform_fine_on_surface_impl asks for it only when every start left such a segment).
+/// deform_fine_on_surface_impl asks for it only when every start left such a segment). `tree`:
+/// the face tree of `tm` at its points now, when the caller has one (step 1 builds one otherwise).
+using Work_face_tree = Face_tree<Work_mesh, boost::property_map<Work_mesh, CGAL::vertex_point_t>::type>;
 Deformation_report fine_on_surface(Work_mesh& tm, const Curve_network& network, const std::vector<Correspondence>& pairs,
-                                   const Deform_options& options, bool split_for_paths = false);
+                                   const Deform_options& options, bool split_for_paths = false,
+                                   std::optional<Work_face_tree> tree = std::nullopt);
 
 /// The largest template that deform_template's subdivision makes.
 constexpr std::size_t max_subdivided_faces = 2000000;

@@ -363,9 +363,10 @@ std::vector<bool> segments_along_border(const TriangleMesh& tm, const VPM& vpm, 
 inline Deformation_report fine_on_cut_network(Work_mesh& tm, const Curve_network& network,
                                               const std::vector<Correspondence>& pairs, const Resampled_network& cut,
                                               const std::vector<Correspondence>& cut_pairs,
-                                              const Deform_options& options, bool split_for_paths) {
-  if (cut.added == 0) return fine_on_surface(tm, network, pairs, options, split_for_paths);
-  Deformation_report r = fine_on_surface(tm, cut.network, cut_pairs, options, split_for_paths);
+                                              const Deform_options& options, bool split_for_paths,
+                                              std::optional<Work_face_tree> tree = std::nullopt) {
+  if (cut.added == 0) return fine_on_surface(tm, network, pairs, options, split_for_paths, std::move(tree));
+  Deformation_report r = fine_on_surface(tm, cut.network, cut_pairs, options, split_for_paths, std::move(tree));
   r.network_points_added = cut.added;
   std::vector<std::size_t> mesh_of(network.number_of_vertices());
   for (std::size_t v = 0; v < mesh_of.size(); ++v) mesh_of[v] = r.mesh_vertex_of_network_vertex[cut.vertex_of[v]];
@@ -455,15 +456,17 @@ Deformation_report deform_fine_on_surface_impl(TriangleMesh& tm, const Curve_net
     for (int start = 0; start < 3; ++start) {
       if (tried > 0) coarse.restore(tm, vpm);
       internal::Approach_result approach;
+      std::optional<internal::Face_tree<TriangleMesh, decltype(vpm)>> tree_after;  // ICP's last tree, for step 1
       // Curves more than twice as dense as the template: no approach will give them room (step 2
       // refuses such inputs), and ICP would only move the template around.
       if (start == 0 && cut.network.number_of_vertices() <= 2 * num_vertices(tm))
-        approach = internal::approach_curves_icp(tm, vpm, cut.network, cut_pairs, tried == 0 ? &coarse_tree : nullptr);
+        approach = internal::approach_curves_icp(tm, vpm, cut.network, cut_pairs, tried == 0 ? &coarse_tree : nullptr,
+                                                 &tree_after);
       if (start == 1) approach = internal::approach_curves(tm, vpm, cut.network, cut_pairs);
       if (start < 2 && approach.scale == 0) continue;  // the approach made no motion: the same start as the last
       std::optional<Deformation_report> r;
       try {
-        r = fine_on_cut_network(tm, network, pairs, cut, cut_pairs, options, round == 1);
+        r = fine_on_cut_network(tm, network, pairs, cut, cut_pairs, options, round == 1, std::move(tree_after));
       } catch (const Cancelled&) {
         throw;  // the caller's cancel, not a failure of this start
       } catch (const Algorithm_failure&) {
