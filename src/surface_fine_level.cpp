@@ -105,6 +105,13 @@ class Surface_fine_level {
   void place_border_vertices();
   // The other network vertices, into the faces nearest their surface points.
   void place_inner_vertices();
+  // The point nearest q of the surface and the face holding it, found earlier as `hit`, in a mesh
+  // only subdivided since (insert_near splits faces and edges and moves no vertex: the surface is
+  // the same point set, the point the same, its face one of the faces cut from hit's): the nearest
+  // of the faces within three vertex rings of hit's face, each projected onto as the face tree
+  // does. Saves place_inner_vertices's later passes a tree of the whole mesh each.
+  std::pair<Point_3, face_descriptor> nearest_in_subdivided(const std::pair<Point_3, face_descriptor>& hit,
+                                                            const Point_3& q) const;
   // Curves that cross without a shared vertex cannot both be edge chains: two segments of
   // different polylines with no common end whose surface images cross in the view along the
   // surface normal there (exact orientations in that view) while the segments themselves nearly
@@ -374,21 +381,25 @@ void Surface_fine_level::place_inner_vertices() {
   std::vector<std::size_t> waiting;
   for (std::size_t v = 0; v < nv; ++v)
     if (mesh_of[v] == unassigned) waiting.push_back(v);
+  // The coarse surface's tree serves the first pass when no border vertex split an edge since
+  // (the faces are those it was built on); later passes look near the first pass's hits.
+  if (!waiting.empty() && s.vertex.size() != template_vertices) {
+    coarse_tree.emplace(faces(tm).first, faces(tm).second, tm, vpm);
+    coarse_tree->accelerate_distance_queries();
+  }
+  std::vector<std::pair<Point_3, face_descriptor>> first_hit(nv);
   for (std::size_t pass = 0; !waiting.empty(); ++pass) {
-    // The coarse surface's tree serves the first pass when no border vertex split an edge since
-    // (the faces are those it was built on); later passes search the mesh as the last one left it.
-    if (pass > 0 || s.vertex.size() != template_vertices) {
-      coarse_tree.emplace(faces(tm).first, faces(tm).second, tm, vpm);
-      coarse_tree->accelerate_distance_queries();
-    }
-    const Tree& tree = *coarse_tree;
     // One network vertex per face and pass, in the order of the network vertices (not of the
     // face handles, which on a Polyhedron_3 are addresses): the result does not depend on memory.
     std::set<face_descriptor> taken;
     std::vector<std::pair<std::size_t, std::pair<face_descriptor, Point_3>>> at;
     std::vector<std::size_t> later;
     for (std::size_t v : waiting) {
-      const auto hit = tree.closest_point_and_primitive(surface_point[v]);
+      if (pass == 0) {
+        const auto h = coarse_tree->closest_point_and_primitive(surface_point[v]);
+        first_hit[v] = {Point_3(h.first.x(), h.first.y(), h.first.z()), h.second};
+      }
+      const auto hit = pass == 0 ? first_hit[v] : nearest_in_subdivided(first_hit[v], surface_point[v]);
       if (taken.insert(hit.second).second)
         at.push_back({v, {hit.second, Point_3(hit.first.x(), hit.first.y(), hit.first.z())}});
       else
@@ -405,6 +416,29 @@ void Surface_fine_level::place_inner_vertices() {
   coarse_tree.reset();
   report.vertices_inserted_for_density = s.vertex.size() - template_vertices;
   report.faces_subdivided = s.faces_split;
+}
+
+std::pair<Point_3, Surface_fine_level::face_descriptor> Surface_fine_level::nearest_in_subdivided(
+    const std::pair<Point_3, face_descriptor>& hit, const Point_3& q) const {
+  std::vector<face_descriptor> near{hit.second};
+  std::set<face_descriptor> seen{hit.second};
+  for (std::size_t ring = 0, from = 0; ring < 3; ++ring) {
+    const std::size_t to = near.size();
+    for (std::size_t k = from; k < to; ++k)
+      for (auto v : CGAL::vertices_around_face(halfedge(near[k], tm), tm))
+        for (auto g : CGAL::faces_around_target(halfedge(v, tm), tm))
+          if (g != GT::null_face() && seen.insert(g).second) near.push_back(g);
+    from = to;
+  }
+  const Kernel k;
+  std::optional<std::pair<Point_3, face_descriptor>> best;
+  for (auto g : near) {
+    const auto h = halfedge(g, tm);  // the corners in the order of the tree's triangles
+    const Kernel::Triangle_3 t(s.to_point(target(h, tm)), s.to_point(target(next(h, tm), tm)), s.to_point(source(h, tm)));
+    const Point_3 p = k.construct_projected_point_3_object()(t, q);
+    if (!best || k.compare_distance_3_object()(q, p, best->first) == CGAL::SMALLER) best = {p, g};
+  }
+  return *best;
 }
 
 void Surface_fine_level::refuse_crossing_segments() const {
