@@ -253,7 +253,7 @@ class Surface_fine_level {
   std::vector<bool> reserved;        // mesh vertices taken by a network vertex
   std::vector<double> distance;      // network vertex -> its distance from the coarse surface
   std::vector<Point_3> surface_point;
-  std::optional<Tree> coarse_tree;  // the caller's or built by project_network, rebuilt by place_inner_vertices's later passes
+  std::optional<Tree> coarse_tree;  // the caller's or built by project_network, rebuilt by place_inner_vertices after border splits
   std::vector<bool> on_border;  // network vertices placed on the template's border
   std::vector<halfedge_descriptor> border;
   std::vector<bool> is_network_vertex, on_chain;  // by mesh vertex
@@ -401,7 +401,7 @@ void Surface_fine_level::place_inner_vertices() {
       }
       const auto hit = pass == 0 ? first_hit[v] : nearest_in_subdivided(first_hit[v], surface_point[v]);
       if (taken.insert(hit.second).second)
-        at.push_back({v, {hit.second, Point_3(hit.first.x(), hit.first.y(), hit.first.z())}});
+        at.push_back({v, {hit.second, hit.first}});
       else
         later.push_back(v);
     }
