@@ -48,6 +48,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <optional>
 
 namespace meshfit {
 namespace internal {
@@ -236,16 +237,44 @@ V3 closest_on_triangle(V3 a, V3 b, V3 c, V3 p) {
   return cand[best];
 }
 
+/// has_plane of every face of a surface that does not change during a flow (the modified
+/// Laplacian's reference): computed once instead of at every step of every walk.
+struct Reference_planes {
+  std::vector<double> normal;          // 3 per face
+  std::vector<unsigned char> trusted;  // has_plane's answer
+
+  Reference_planes(const double* ref, const Smoothing_arrays& m) : normal(3 * m.triangles.size()), trusted(m.triangles.size()) {
+    const std::ptrdiff_t snf = std::ptrdiff_t(m.triangles.size());
+#pragma omp parallel for schedule(static) if (snf >= 100000)
+    for (std::ptrdiff_t sf = 0; sf < snf; ++sf) {
+      const std::size_t f = std::size_t(sf);
+      const auto& tri = m.triangles[f];
+      V3 n;
+      double nn;
+      trusted[f] = has_plane(load(ref, tri[0]), load(ref, tri[1]), load(ref, tri[2]), n, nn);
+      store(normal.data(), f, n);
+    }
+  }
+};
+
 /// The walk of smooth.h: from face f of the reference surface towards p; returns the landing
 /// point, sets f to the landing face and `clamped` when it ended at a face's closest point.
-V3 walk(const double* ref, const Smoothing_arrays& m, const Topology& t, std::uint32_t& f, V3 p, bool& clamped) {
+/// `planes`, when given, holds every face's has_plane of ref (Reference_planes).
+V3 walk(const double* ref, const Reference_planes* planes, const Smoothing_arrays& m, const Topology& t, std::uint32_t& f,
+        V3 p, bool& clamped) {
   std::uint32_t prev = no_face;
   for (int step = 0; step < max_walk_faces; ++step) {
     const auto& tri = m.triangles[f];
     const V3 v[3] = {load(ref, tri[0]), load(ref, tri[1]), load(ref, tri[2])};
     V3 n;
     double nn;
-    if (!has_plane(v[0], v[1], v[2], n, nn)) break;
+    if (planes) {
+      if (!planes->trusted[f]) break;
+      n = load(planes->normal.data(), f);
+      nn = dot(n, n);
+    } else if (!has_plane(v[0], v[1], v[2], n, nn)) {
+      break;
+    }
     const V3 q = p - (dot(p - v[0], n) / nn) * n;
     int kmin = 0;
     double lmin = 0;
@@ -315,7 +344,7 @@ namespace {
 // machines the first write to fresh memory costs more than the writes themselves (1 GB: 3 s
 // against 0.08 s), and the arrays are as large as the mesh.
 struct Flow_buffers {
-  std::vector<double> p0, initial_normal, cur, next, disp, scale, face_area2, edge_w;
+  std::vector<double> p0, initial_normal, cur, next, disp, scale, face_area2, edge_w, next_normal, next_edge2;
   std::vector<std::array<double, 3>> face_cot;
   std::vector<std::uint32_t> home, landing, vertex_round, face_round;
   std::vector<unsigned char> walk_clamped, flipped;
@@ -344,6 +373,7 @@ class Flow_run {
       const V3 a = load(oriented.data(), tri[0]), b = load(oriented.data(), tri[1]), c = load(oriented.data(), tri[2]);
       store(initial_normal.data(), f, cross(b - a, c - a));
     }
+    if (s.kind == Flow_kind::modified_laplacian) ref_planes.emplace(reference.data(), m);
     // Each vertex's face of the reference surface (the modified Laplacian walks on from there).
     home.assign(n, no_face);
     for (std::size_t i = 0; i < n; ++i)
@@ -355,6 +385,8 @@ class Flow_run {
     landing.assign(n, 0);
     walk_clamped.assign(n, 0);
     flipped.assign(nf, 0);
+    next_normal.assign(3 * nf, 0.0);
+    next_edge2.assign(nf, 0.0);
     vertex_round.assign(n, 0);
     face_round.assign(nf, 0);
     halvings.assign(n, 0);
@@ -390,6 +422,7 @@ class Flow_run {
   void swap_buffers() {
     Flow_buffers& b = buffers;
     p0.swap(b.p0), initial_normal.swap(b.initial_normal), cur.swap(b.cur), next.swap(b.next), disp.swap(b.disp);
+    next_normal.swap(b.next_normal), next_edge2.swap(b.next_edge2);
     scale.swap(b.scale), face_area2.swap(b.face_area2), edge_w.swap(b.edge_w), face_cot.swap(b.face_cot);
     home.swap(b.home), landing.swap(b.landing), vertex_round.swap(b.vertex_round), face_round.swap(b.face_round);
     walk_clamped.swap(b.walk_clamped), flipped.swap(b.flipped), halvings.swap(b.halvings);
@@ -492,7 +525,7 @@ class Flow_run {
     if (modified && home[i] != no_face && scale[i] > 0) {
       std::uint32_t f = home[i];
       bool c = false;
-      store(next.data(), i, walk(ref, m, t, f, target, c));
+      store(next.data(), i, walk(ref, ref_planes ? &*ref_planes : nullptr, m, t, f, target, c));
       landing[i] = f;
       walk_clamped[i] = c;
     } else {
@@ -509,6 +542,8 @@ class Flow_run {
   // ends. A face that stays flagged with all its corners still (impossible but for rounding)
   // changes nothing and is dropped.
   void guard_flips() {
+#pragma omp parallel for schedule(static) if (parallel)
+    for (std::ptrdiff_t f = 0; f < snf; ++f) shape_at_next(std::size_t(f));
 #pragma omp parallel for schedule(static) if (parallel)
     for (std::ptrdiff_t f = 0; f < snf; ++f) flipped[std::size_t(f)] = judge(std::size_t(f));
     std::vector<std::uint32_t> flagged, changed, recheck;
@@ -539,6 +574,9 @@ class Flow_run {
             face_round[t.vf[k]] = round;
             recheck.push_back(t.vf[k]);
           }
+      // Every face with a moved corner is in recheck: the neighbours' shapes judge reads are current.
+#pragma omp parallel for schedule(static) if (parallel)
+      for (std::ptrdiff_t k = 0; k < std::ptrdiff_t(recheck.size()); ++k) shape_at_next(recheck[std::size_t(k)]);
 #pragma omp parallel for schedule(static) if (parallel)
       for (std::ptrdiff_t k = 0; k < std::ptrdiff_t(recheck.size()); ++k)
         flipped[recheck[std::size_t(k)]] = judge(recheck[std::size_t(k)]);
@@ -548,12 +586,22 @@ class Flow_run {
     }
   }
 
-  // Whether face f would flip or turn into a needle or fold over a neighbour at `next`.
+  // Face f's normal and longest edge squared at `next` (next_normal, next_edge2), which judge reads
+  // for the face and its neighbours: computed once per face rather than four times.
+  void shape_at_next(std::size_t f) {
+    const auto& tri = m.triangles[f];
+    const V3 na = load(next.data(), tri[0]), nb = load(next.data(), tri[1]), nc = load(next.data(), tri[2]);
+    store(next_normal.data(), f, cross(nb - na, nc - na));
+    next_edge2[f] = std::max({dot(nb - na, nb - na), dot(nc - nb, nc - nb), dot(na - nc, na - nc)});
+  }
+
+  // Whether face f would flip or turn into a needle or fold over a neighbour at `next`
+  // (shape_at_next of f and its neighbours made).
   bool judge(std::size_t f) const {
     const auto& tri = m.triangles[f];
     const V3 a = load(P, tri[0]), b = load(P, tri[1]), c = load(P, tri[2]);
     const V3 na = load(next.data(), tri[0]), nb = load(next.data(), tri[1]), nc = load(next.data(), tri[2]);
-    const V3 n0 = cross(b - a, c - a), n1 = cross(nb - na, nc - na);
+    const V3 n0 = cross(b - a, c - a), n1 = load(next_normal.data(), f);
     const double l0 = dot(n0, n0), l1 = dot(n1, n1);
     if (!(l0 > 0)) return false;  // a face of zero area has no normal to flip: not judged
     // A face must not turn into a needle either (that is how a flip starts, and a needle's
@@ -561,7 +609,7 @@ class Flow_run {
     // smallest angle, may not fall below needle_shape, or below what it was if it already was.
     // Compared squared and without division, so that an unmoved face always passes.
     const double e0 = std::max({dot(b - a, b - a), dot(c - b, c - b), dot(a - c, a - c)});
-    const double e1 = std::max({dot(nb - na, nb - na), dot(nc - nb, nc - nb), dot(na - nc, na - nc)});
+    const double e1 = next_edge2[f];
     if (!(l1 * (e0 * e0) >= std::min(l0, needle_shape * needle_shape * (e0 * e0)) * (e1 * e1))) return true;
     // The filter: a normal turning by less than about 89.9° (cos > 1e-3) is kept; otherwise the
     // exact orientation of the moved triangle in the plane of the old one decides. Judged
@@ -589,11 +637,11 @@ class Flow_run {
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t g = t.face_nbr[f][std::size_t(k)];
       if (g == no_face) continue;
-      const auto& gt = m.triangles[g];
-      const V3 ga = load(next.data(), gt[0]), gb = load(next.data(), gt[1]), gc = load(next.data(), gt[2]);
-      const V3 ng = cross(gb - ga, gc - ga);
+      const V3 ng = load(next_normal.data(), g);
       const double dg = dot(n1, ng);
       if (dg > 0 && dg * dg > 1e-6 * l1 * dot(ng, ng)) continue;
+      const auto& gt = m.triangles[g];
+      const V3 ga = load(next.data(), gt[0]), gb = load(next.data(), gt[1]), gc = load(next.data(), gt[2]);
       const Triangle_points other{Point_3(ga.x, ga.y, ga.z), Point_3(gb.x, gb.y, gb.z), Point_3(gc.x, gc.y, gc.z)};
       if (orientation_in_plane(after, other[0], other[1], other[2]) == CGAL::POSITIVE) continue;
       const V3 ia = load(oriented.data(), tri[0]), ib = load(oriented.data(), tri[1]), ic = load(oriented.data(), tri[2]);
@@ -653,6 +701,8 @@ class Flow_run {
   std::vector<double> initial_normal;  // the normals of the faces at the call, for the flip guard
   std::vector<std::uint32_t> home;     // each vertex's face of the reference surface
   std::vector<double> cur, next, disp, scale, face_area2, edge_w;
+  std::vector<double> next_normal, next_edge2;  // shape_at_next, by face
+  std::optional<Reference_planes> ref_planes;  // the modified Laplacian's reference, whose planes do not change
   std::vector<std::array<double, 3>> face_cot;
   std::vector<std::uint32_t> landing;
   std::vector<unsigned char> walk_clamped, flipped;
