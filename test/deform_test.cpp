@@ -14,6 +14,7 @@
 #include "test_helpers.h"
 
 #include <algorithm>
+#include <optional>
 #include <set>
 
 namespace meshfit_deform_test {  // one per file: the test files are compiled together (test/CMakeLists.txt)
@@ -529,6 +530,32 @@ TEST_CASE("deform: the ICP approach brings the coarse surface to the curves, tur
   CHECK(m.worst_after < 0.5 * m.worst_before);
 }
 #endif
+
+// ICP hands the face tree its last step built (to measure the gap, moving nothing after it) to the
+// fine level's step 1, which places the network vertices with it: that tree must answer as one
+// built afresh on the mesh as the approach left it (a tree of the points before a step would put
+// them where the surface was).
+TEST_CASE("deform: the face tree the ICP approach hands on is the mesh's as the approach left it", "[deform][surface]") {
+  Example e = load_case(MESHFIT_TEST_DATA_DIR "/peanut-latlong");
+  const Mesh start = e.tm;
+  auto vpm = get(CGAL::vertex_point, e.tm);
+  using Tree = meshfit::internal::Face_tree<Mesh, decltype(vpm)>;
+  std::optional<Tree> after;
+  const auto r = meshfit::internal::approach_curves_icp(e.tm, vpm, e.network, e.pairs, static_cast<const Tree*>(nullptr), &after);
+  REQUIRE(r.scale > 0);  // the approach moved the mesh
+  std::size_t moved = 0;
+  for (auto v : e.tm.vertices()) moved += e.tm.point(v) != start.point(v);
+  REQUIRE(moved > 0);
+  REQUIRE(after.has_value());  // on this input the last step measures the gap and stops
+  using Primitive = CGAL::AABB_face_graph_triangle_primitive<Mesh>;
+  CGAL::AABB_tree<CGAL::AABB_traits<meshfit::Kernel, Primitive>> fresh(faces(e.tm).first, faces(e.tm).second, e.tm);
+  // The queries step 1 makes (the network's points) and points of the surface before the motion.
+  std::vector<meshfit::Point_3> queries(e.network.points().begin(), e.network.points().end());
+  for (auto v : start.vertices()) queries.push_back(start.point(v));
+  std::size_t differ = 0;
+  for (const auto& q : queries) differ += after->squared_distance(q) != fresh.squared_distance(q);
+  CHECK(differ == 0);
+}
 
 // Curves already on the surface (a path of the template's own vertices): every network vertex is
 // within a quarter of an edge of its surface point before any step, so ICP makes none.
