@@ -541,8 +541,11 @@ void Surface_fine_level::embed_segments() {
   // Normals of the coarse surface (its faces only split so far, no shape changed): what "turned
   // over" is judged against in step 4. Stage 2's insertion may leave faces standing on edge where
   // a curve runs through a template vertex; their own normals would not be a reference.
+  // (Each vertex's normal alone, read-only: in parallel; 0.5 s of one core at 1.3M faces.)
   reference_normal.resize(s.vertex.size());
-  for (std::size_t i = 0; i < s.vertex.size(); ++i) reference_normal[i] = s.normal(i);
+  const std::ptrdiff_t vertices = static_cast<std::ptrdiff_t>(s.vertex.size());
+#pragma omp parallel for schedule(static) if (vertices >= 50000)
+  for (std::ptrdiff_t i = 0; i < vertices; ++i) reference_normal[std::size_t(i)] = s.normal(std::size_t(i));
 
   // The network as projected, but for the boundary segments, embedded by stage 2's insertion.
   // Two network vertices placed at one point (curves denser than the template's faces there)

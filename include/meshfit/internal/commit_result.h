@@ -30,11 +30,11 @@
 #include <CGAL/boost/graph/helpers.h>
 #include <CGAL/boost/graph/iterator.h>
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
 #include <type_traits>
-#include <unordered_map>
 #include <vector>
 
 namespace meshfit {
@@ -62,21 +62,39 @@ struct Committed_elements {
   std::vector<typename boost::graph_traits<TriangleMesh>::face_descriptor> face_of;
 };
 
-/// Key of an undirected edge or of a triangle up to rotation, by result vertex index.
-inline std::uint64_t edge_key(std::size_t a, std::size_t b) {
-  if (a > b) std::swap(a, b);
-  return (std::uint64_t(a) << 32) | std::uint64_t(b);
-}
-struct Triangle_key_hash {
-  std::size_t operator()(const std::array<std::size_t, 3>& t) const {
-    return std::hash<std::size_t>()(t[0]) ^ (std::hash<std::size_t>()(t[1]) * 0x9e3779b97f4a7c15ULL) ^
-           (std::hash<std::size_t>()(t[2]) * 0xc2b2ae3d27d4eb4fULL);
-  }
-};
+/// Key of a triangle up to rotation, by result vertex index: its lowest vertex first.
 inline std::array<std::size_t, 3> triangle_key(std::array<std::size_t, 3> t) {
   while (t[0] > t[1] || t[0] > t[2]) t = {t[1], t[2], t[0]};
   return t;
 }
+
+/// Elements filed under the lowest of their vertex indices (keys a < rows, then b, c), found by
+/// scanning that vertex's row: the template's edges and faces, looked up in time of a vertex's
+/// degree (hash maps of a million-face template's elements took a second to fill). Of elements with
+/// the same key, the first given is found.
+template <typename Value>
+class Lowest_vertex_rows {
+ public:
+  struct Keyed {
+    std::size_t a, b, c;
+    Value value;
+  };
+  Lowest_vertex_rows(std::size_t rows, const std::vector<Keyed>& keyed) : m_start(rows + 1, 0), m_entries(keyed.size()) {
+    for (const Keyed& k : keyed) ++m_start[k.a + 1];
+    for (std::size_t i = 0; i < rows; ++i) m_start[i + 1] += m_start[i];
+    std::vector<std::size_t> fill(m_start.begin(), m_start.end() - 1);
+    for (const Keyed& k : keyed) m_entries[fill[k.a]++] = k;
+  }
+  const Value* find(std::size_t a, std::size_t b, std::size_t c) const {
+    for (std::size_t j = m_start[a]; j < m_start[a + 1]; ++j)
+      if (m_entries[j].b == b && m_entries[j].c == c) return &m_entries[j].value;
+    return nullptr;
+  }
+
+ private:
+  std::vector<std::size_t> m_start;
+  std::vector<Keyed> m_entries;
+};
 
 /// The steps of commit_surface_mesh, in the order it takes them: everything up to
 /// take_elements() is computed before `tm` changes.
@@ -109,33 +127,34 @@ class Surface_mesh_commit {
     if (m_nw != number_of_points || m_nw < m_nt) throw Invalid_input("fit: the result does not extend the template");
   }
 
-  /// Template edges by their vertices.
-  std::unordered_map<std::uint64_t, E> template_edges() const {
-    std::unordered_map<std::uint64_t, E> template_edge;
-    template_edge.reserve(m_tm.number_of_edges());
-    for (E e : m_tm.edges())
-      template_edge.emplace(edge_key(m_tindex[m_tm.source(m_tm.halfedge(e))], m_tindex[m_tm.target(m_tm.halfedge(e))]),
-                            e);
-    return template_edge;
+  /// Template edges by their vertices (lower, higher, 0).
+  Lowest_vertex_rows<E> template_edges() const {
+    std::vector<typename Lowest_vertex_rows<E>::Keyed> keyed;
+    keyed.reserve(m_tm.number_of_edges());
+    for (E e : m_tm.edges()) {
+      const std::size_t s = m_tindex[m_tm.source(m_tm.halfedge(e))], t = m_tindex[m_tm.target(m_tm.halfedge(e))];
+      keyed.push_back({std::min(s, t), std::max(s, t), 0, e});
+    }
+    return Lowest_vertex_rows<E>(m_nt, keyed);
   }
 
-  /// Template faces by their vertices.
-  std::unordered_map<std::array<std::size_t, 3>, F, Triangle_key_hash> template_faces() const {
-    std::unordered_map<std::array<std::size_t, 3>, F, Triangle_key_hash> template_face;
-    template_face.reserve(m_tm.number_of_faces());
+  /// Template faces by their vertices (triangle_key).
+  Lowest_vertex_rows<F> template_faces() const {
+    std::vector<typename Lowest_vertex_rows<F>::Keyed> keyed;
+    keyed.reserve(m_tm.number_of_faces());
     for (F f : m_tm.faces()) {
       const H h = m_tm.halfedge(f);
       if (m_tm.next(m_tm.next(m_tm.next(h))) != h) continue;  // not a triangle: no result face matches it
-      template_face.emplace(triangle_key({m_tindex[m_tm.target(m_tm.prev(h))], m_tindex[m_tm.target(h)],
-                                          m_tindex[m_tm.target(m_tm.next(h))]}),
-                            f);
+      const auto k = triangle_key({m_tindex[m_tm.target(m_tm.prev(h))], m_tindex[m_tm.target(h)],
+                                   m_tindex[m_tm.target(m_tm.next(h))]});
+      keyed.push_back({k[0], k[1], k[2], f});
     }
-    return template_face;
+    return Lowest_vertex_rows<F>(m_nt, keyed);
   }
 
   /// Each edge of `work` joining two template vertices that an edge of the template joins stands
   /// for that edge, its halfedge(e) for the template's halfedge in the same direction.
-  void match_edges(const std::unordered_map<std::uint64_t, E>& template_edge) {
+  void match_edges(const Lowest_vertex_rows<E>& template_edge) {
     for (auto e : m_work.edges()) {
       const auto h = m_work.halfedge(e);
       const std::size_t s = m_windex[m_work.source(h)], t = m_windex[m_work.target(h)];
@@ -143,32 +162,32 @@ class Surface_mesh_commit {
         m_unmatched_edges.push_back(e);
         continue;
       }
-      const auto it = template_edge.find(edge_key(s, t));
-      if (it == template_edge.end()) {
+      const E* found = template_edge.find(std::min(s, t), std::max(s, t), 0);
+      if (!found) {
         m_unmatched_edges.push_back(e);
         continue;
       }
-      const H th = m_tm.halfedge(it->second);
+      const H th = m_tm.halfedge(*found);
       m_base[e] = m_tindex[m_tm.target(th)] == t ? th : m_tm.opposite(th);
-      m_edge_kept[it->second] = 1;
+      m_edge_kept[*found] = 1;
     }
   }
 
   /// Each face of `work` with the same three template vertices as a face of the template, in the
   /// same order, stands for that face.
-  void match_faces(const std::unordered_map<std::array<std::size_t, 3>, F, Triangle_key_hash>& template_face) {
+  void match_faces(const Lowest_vertex_rows<F>& template_face) {
     for (auto f : m_work.faces()) {
       const auto h = m_work.halfedge(f);
       const std::array<std::size_t, 3> c{m_windex[m_work.target(m_work.prev(h))], m_windex[m_work.target(h)],
                                          m_windex[m_work.target(m_work.next(h))]};
-      const auto it =
-          c[0] < m_nt && c[1] < m_nt && c[2] < m_nt ? template_face.find(triangle_key(c)) : template_face.end();
-      if (it == template_face.end()) {
+      const auto k = triangle_key(c);
+      const F* found = c[0] < m_nt && c[1] < m_nt && c[2] < m_nt ? template_face.find(k[0], k[1], k[2]) : nullptr;
+      if (!found) {
         m_unmatched_faces.push_back(f);
         continue;
       }
-      m_face_of_work[f] = it->second;
-      m_face_kept[it->second] = 1;
+      m_face_of_work[f] = *found;
+      m_face_kept[*found] = 1;
     }
   }
 
