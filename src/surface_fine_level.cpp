@@ -270,6 +270,11 @@ class Surface_fine_level {
   Vertex_adjacency adjacency;
   std::vector<bool> folded_before;  // by edge
   std::size_t serious = 0;          // flips + folds of the last call of bad_faces
+  // bad_faces' judgements, kept between calls: the positions judged, each face's corners and
+  // verdict (0 good, 1 turned over, 2 steep), each edge's fold (by index).
+  std::vector<Point_3> judged_at;
+  std::vector<std::array<std::size_t, 3>> judged_corners;
+  std::vector<unsigned char> face_verdict, edge_folded;
   std::vector<face_descriptor> flipped;
 };
 
@@ -791,19 +796,52 @@ std::vector<bool> Surface_fine_level::displacement_band() const {
 }
 
 std::vector<Surface_fine_level::face_descriptor> Surface_fine_level::bad_faces() {
+  // Only what changed since the last call is judged again: the faces with a corner moved or
+  // replaced (by an edge flip), and the edges beside them (an edge whose faces changed is beside
+  // a face whose corners did).
+  const bool fresh = judged_at.size() != n || face_verdict.size() != tm.num_faces() || edge_folded.size() != tm.num_edges();
+  std::vector<unsigned char> moved(n, fresh ? 1 : 0);
+  if (fresh) {
+    judged_at = after;
+    judged_corners.assign(tm.num_faces(), {0, 0, 0});
+    face_verdict.assign(tm.num_faces(), 0);
+    edge_folded.assign(tm.num_edges(), 0);
+  } else {
+    for (std::size_t i = 0; i < n; ++i)
+      if (after[i] != judged_at[i]) moved[i] = 1, judged_at[i] = after[i];
+  }
+  std::vector<unsigned char> changed(tm.num_faces(), 0);
   std::vector<face_descriptor> bad, steep;
   for (auto f : faces(tm)) {
+    const std::size_t k = f.idx();
     const auto c = s.corners(f);
-    const Vector_3 N = reference_normal[c[0]] + reference_normal[c[1]] + reference_normal[c[2]];
-    if (CGAL::orientation(after[c[0]], after[c[1]], after[c[2]], after[c[0]] + N) != CGAL::POSITIVE) {
-      bad.push_back(f);
-      continue;
+    if (fresh || c != judged_corners[k] || moved[c[0]] || moved[c[1]] || moved[c[2]]) {
+      changed[k] = 1;
+      judged_corners[k] = c;
+      const Vector_3 N = reference_normal[c[0]] + reference_normal[c[1]] + reference_normal[c[2]];
+      if (CGAL::orientation(after[c[0]], after[c[1]], after[c[2]], after[c[0]] + N) != CGAL::POSITIVE) {
+        face_verdict[k] = 1;
+      } else {
+        const Vector_3 nf = CGAL::cross_product(after[c[1]] - after[c[0]], after[c[2]] - after[c[0]]);
+        face_verdict[k] = nf * N < 0.34 * std::sqrt(nf.squared_length() * N.squared_length()) ? 2 : 0;
+      }
     }
-    const Vector_3 nf = CGAL::cross_product(after[c[1]] - after[c[0]], after[c[2]] - after[c[0]]);
-    if (nf * N < 0.34 * std::sqrt(nf.squared_length() * N.squared_length())) steep.push_back(f);
+    if (face_verdict[k] == 1) bad.push_back(f);
+    if (face_verdict[k] == 2) steep.push_back(f);
   }
   report.remaining_flips = bad.size();
-  const auto folded = s.folded_faces(after, nullptr, &folded_before);
+  // Deform_state::folded_faces(after, nullptr, &folded_before), on the edges beside changed faces.
+  std::vector<face_descriptor> folded;
+  std::size_t ek = 0;
+  for (auto e : edges(tm)) {
+    const std::size_t k = ek++;
+    const auto h = halfedge(e, tm), g = opposite(h, tm);
+    if (is_border(h, tm) || is_border(g, tm)) continue;
+    if (k < folded_before.size() && folded_before[k]) continue;
+    if (fresh || changed[face(h, tm).idx()] || changed[face(g, tm).idx()])
+      edge_folded[e.idx()] = edge_folds(tm, h, [&](vertex_descriptor v) { return after[get(s.index, v)]; });
+    if (edge_folded[e.idx()]) folded.push_back(face(h, tm)), folded.push_back(face(g, tm));
+  }
   report.remaining_folds = folded.size();
   serious = bad.size() + folded.size();
   bad.insert(bad.end(), folded.begin(), folded.end());
