@@ -134,17 +134,24 @@ std::size_t add_triangles(const Polygon_soup& soup, Mesh_data& mesh, std::vector
   return triangulated;
 }
 
-// Each triangle's three half-edges, sorted by their vertex pair.
-std::vector<Half_edge> sorted_half_edges(const std::vector<std::array<std::size_t, 3>>& triangles) {
+// Each triangle's three half-edges, sorted by their vertex pair (then face): counted into rows by
+// the lower vertex, each row then sorted (a handful of half-edges), in linear time overall (one
+// comparison sort of a million-face mesh's 3.9 million half-edges took 0.35 s).
+std::vector<Half_edge> sorted_half_edges(const std::vector<std::array<std::size_t, 3>>& triangles, std::size_t vertices) {
   const std::size_t nt = triangles.size();
-  std::vector<Half_edge> hes;
-  hes.reserve(3 * nt);
+  std::vector<std::size_t> start(vertices + 1, 0);
+  for (const auto& t : triangles)
+    for (int j = 0; j < 3; ++j) ++start[std::min(t[j], t[(j + 1) % 3]) + 1];
+  for (std::size_t v = 0; v < vertices; ++v) start[v + 1] += start[v];
+  std::vector<Half_edge> hes(3 * nt);
+  std::vector<std::size_t> fill(start.begin(), start.end() - 1);
   for (std::size_t t = 0; t < nt; ++t)
     for (int j = 0; j < 3; ++j) {
       const std::size_t a = triangles[t][j], b = triangles[t][(j + 1) % 3];
-      hes.push_back({std::min(a, b), std::max(a, b), t, a < b});
+      hes[fill[std::min(a, b)]++] = {std::min(a, b), std::max(a, b), t, a < b};
     }
-  std::sort(hes.begin(), hes.end());
+  for (std::size_t v = 0; v < vertices; ++v)
+    std::sort(hes.begin() + static_cast<std::ptrdiff_t>(start[v]), hes.begin() + static_cast<std::ptrdiff_t>(start[v + 1]));
   return hes;
 }
 
@@ -285,7 +292,7 @@ Mesh_data validate_polygon_soup(const Polygon_soup& soup, Mesh_read_report* repo
   mesh.vertex_colors = soup.vertex_colors;
   std::vector<std::size_t> source;  // polygon of each triangle
   const std::size_t triangulated = add_triangles(soup, mesh, source);
-  const std::vector<Half_edge> hes = sorted_half_edges(mesh.triangles);
+  const std::vector<Half_edge> hes = sorted_half_edges(mesh.triangles, mesh.points.size());
   check_edges(soup, hes, source);
   check_vertices(soup, mesh.triangles, source, report);
   add_curve_edges(soup, hes, mesh);
