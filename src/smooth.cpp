@@ -714,13 +714,29 @@ class Flow_run {
   const double* ref = nullptr;  // what the modified flows project onto
 };
 
-// A mesh made by inserting vertices and splitting faces (stage 1's) lists them in the order they
-// were made, not where they are: a vertex's neighbours lie far apart in memory, and every step of
-// a flow waits on the cache (the 1.3M-face scale case's output smoothed in 6.7-7.1 s as written,
-// in 3.5-4.6 s renumbered by place). The flows run on a copy whose vertices are numbered in
-// breadth-first order along the edges, from the lowest-numbered vertex of each component (on the
-// connectivity alone: the order does not depend on where the mesh is placed), and whose faces are
-// sorted by their first vertex in that order. The vertices in their new order:
+// A mesh made by inserting vertices and splitting faces (stage 1's), or by midpoint subdivision,
+// lists them in the order they were made, not where they are: a vertex's neighbours lie far apart
+// in memory, and every step of a flow waits on the cache (the 1.3M-face scale case's output
+// smoothed in 6.7-7.1 s as written, in 3.5-4.6 s renumbered by place). When more than a quarter
+// of the edges join vertices numbered more than far_apart apart (that output: 52 %), the flows
+// run on a copy whose vertices are numbered in breadth-first order along the edges, from the
+// lowest-numbered vertex of each component, and whose faces are sorted by their first vertex in
+// that order; otherwise the copy would only cost its making (on a mesh of 1e5 vertices numbered
+// by place, a tenth of a second). Both decisions read the connectivity alone: they do not depend
+// on where the mesh is placed.
+constexpr std::uint32_t far_apart = 8192;  // vertices: 192 KB of positions
+
+bool numbered_far_apart(const Smoothing_arrays& m) {
+  std::size_t far = 0;
+  for (const auto& t : m.triangles)
+    for (std::size_t j = 0; j < 3; ++j) {
+      const std::uint32_t a = t[j], b = t[(j + 1) % 3];
+      far += (a > b ? a - b : b - a) > far_apart;
+    }
+  return 4 * far > 3 * m.triangles.size();
+}
+
+// The vertices in breadth-first order:
 std::vector<std::uint32_t> breadth_first_order(const Smoothing_arrays& m) {
   const std::size_t n = m.fixed.size();
   const Outgoing_half_edges out(m, n);
@@ -770,15 +786,20 @@ Smoothing_arrays renumbered(const Smoothing_arrays& m, const std::vector<std::ui
   return r;
 }
 
-// run_flows on points of order one (see run_flows below), on the renumbered copy.
+// run_flows on points of order one (see run_flows below), on a renumbered copy when the
+// numbering is far apart.
 void run_flows_unit(Smoothing_arrays& m, const std::vector<Flow_settings>& flows, Smoothing_report& report) {
   Fp_trap_scope traps;
   check_smoothing_input(m);
+  auto run = [&](Smoothing_arrays& a) {
+    const Topology t(a);
+    Flow_buffers buffers;
+    for (const Flow_settings& s : flows) Flow_run(a, s, report, t, buffers).run();
+  };
+  if (!numbered_far_apart(m)) return run(m);
   const std::vector<std::uint32_t> order = breadth_first_order(m);
   Smoothing_arrays r = renumbered(m, order);
-  const Topology t(r);
-  Flow_buffers buffers;
-  for (const Flow_settings& s : flows) Flow_run(r, s, report, t, buffers).run();
+  run(r);
   for (std::size_t i = 0; i < order.size(); ++i) store(m.points.data(), order[i], load(r.points.data(), i));
 }
 
