@@ -1,11 +1,18 @@
 // Degenerate geometry across the stages: every case ends in a valid result or a clean error.
 #include <meshfit/deform.h>
 #include <meshfit/io.h>
+#include <meshfit/internal/smallest_angle.h>
 
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/boost/graph/helpers.h>
 
 #include "test_helpers.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <random>
 
 namespace meshfit_degenerate_test {  // one per file: the test files are compiled together (test/CMakeLists.txt)
 
@@ -231,6 +238,50 @@ TEST_CASE("degenerate: repeated runs give byte-identical output", "[degenerate][
   }
   CHECK(!text[0].empty());
   CHECK(text[0] == text[1]);
+}
+
+// internal::smallest_angle takes atan2 only of the corners a comparison of cotangents cannot rule
+// out; its value must be the least of the three atan2 to the last bit (the stages compare angles
+// before and after a flip: a last-bit change would change which flips are made). Against the
+// three atan2 taken here, on random triangles, needles, near-isoceles ones and ones on a grid
+// (exact ties, collinear corners).
+TEST_CASE("smallest_angle: the least of the three atan2, to the last bit", "[angles]") {
+  using meshfit::Point_3;
+  auto three_atan2 = [](const Point_3& a, const Point_3& b, const Point_3& c) {
+    const std::array<Point_3, 3> p{a, b, c};
+    double smallest = CGAL_PI;
+    for (std::size_t k = 0; k < 3; ++k) {
+      meshfit::Vector_3 e1 = p[(k + 1) % 3] - p[k], e2 = p[(k + 2) % 3] - p[k];
+      const double size = std::max({std::abs(e1.x()), std::abs(e1.y()), std::abs(e1.z()), std::abs(e2.x()),
+                                    std::abs(e2.y()), std::abs(e2.z())});
+      if (!(size > 0)) return 0.0;
+      e1 = e1 / size, e2 = e2 / size;
+      smallest = std::min(smallest, std::atan2(std::sqrt(CGAL::cross_product(e1, e2).squared_length()), e1 * e2));
+    }
+    return smallest;
+  };
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  auto grid = [&] { return std::round(4 * u(rng)) / 4; };
+  std::size_t differ = 0, cases = 0;
+  for (int kind = 0; kind < 4; ++kind)
+    for (int i = 0; i < 50000; ++i) {
+      Point_3 a(u(rng), u(rng), u(rng)), b(u(rng), u(rng), u(rng)), c(u(rng), u(rng), u(rng));
+      if (kind == 1) {  // a needle: c near the line ab
+        const double t = u(rng);
+        c = Point_3(a.x() + t * (b.x() - a.x()) + 1e-9 * u(rng), a.y() + t * (b.y() - a.y()), a.z() + t * (b.z() - a.z()));
+      } else if (kind == 2) {  // near-isoceles: c near the bisector plane of ab
+        c = Point_3((a.x() + b.x()) / 2 + 0.866 * (b.y() - a.y()) + 1e-12 * u(rng), (a.y() + b.y()) / 2 - 0.866 * (b.x() - a.x()),
+                    (a.z() + b.z()) / 2);
+      } else if (kind == 3) {  // on a grid: equal angles, collinear and repeated corners
+        a = Point_3(grid(), grid(), 0), b = Point_3(grid(), grid(), 0), c = Point_3(grid(), grid(), 0);
+      }
+      const double x = meshfit::internal::smallest_angle(a, b, c), y = three_atan2(a, b, c);
+      differ += std::memcmp(&x, &y, sizeof x) != 0;
+      ++cases;
+    }
+  INFO(differ << " of " << cases << " differ");
+  CHECK(differ == 0);
 }
 
 }  // namespace meshfit_degenerate_test
