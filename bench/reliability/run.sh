@@ -90,27 +90,33 @@ row() {
   CHECK=""
 }
 
-in_args() {  # the three inputs of a case folder
-  echo --template "$1/template.off" --curves "$1/curves.polylines.txt" --correspondences "$1/pairs.txt"
+# The three inputs of a case folder: into the array INPUTS (no subshell: the rows below run it once
+# each), or printed by in_args for the rows written out further down.
+set_inputs() {
+  INPUTS=(--template "$1/template.off" --curves "$1/curves.polylines.txt" --correspondences "$1/pairs.txt")
+}
+in_args() {
+  set_inputs "$1"
+  echo "${INPUTS[@]}"
 }
 fit() {  # fit NAME EXPECT CASE [extra args]: fit with a report
   local name="$1" expect="$2" dir="$3"
   shift 3
   REPORT="$out/$name.json"
-  row "$name" "$expect" -- fit --template "$dir/template.off" --curves "$dir/curves.polylines.txt" \
-    --correspondences "$dir/pairs.txt" --output "$out/$name.off" --report "$REPORT" --quiet "$@"
+  set_inputs "$dir"
+  row "$name" "$expect" -- fit "${INPUTS[@]}" --output "$out/$name.off" --report "$REPORT" --quiet "$@"
 }
 deform() {
   local name="$1" expect="$2" dir="$3"
   shift 3
   REPORT="$out/$name.json"
-  row "$name" "$expect" -- deform --template "$dir/template.off" --curves "$dir/curves.polylines.txt" \
-    --correspondences "$dir/pairs.txt" --output "$out/$name.off" --report "$REPORT" --quiet "$@"
+  set_inputs "$dir"
+  row "$name" "$expect" -- deform "${INPUTS[@]}" --output "$out/$name.off" --report "$REPORT" --quiet "$@"
 }
 check() {
   local name="$1" expect="$2" dir="$3"
-  row "$name" "$expect" -- check --template "$dir/template.off" --curves "$dir/curves.polylines.txt" \
-    --correspondences "$dir/pairs.txt"
+  set_inputs "$dir"
+  row "$name" "$expect" -- check "${INPUTS[@]}"
 }
 
 # 1. Extreme coordinates: refused at reading (exit 1) outside the supported range, never a signal.
