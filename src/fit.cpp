@@ -12,8 +12,13 @@
 
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 
+#include <omp.h>
+
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
+#include <exception>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -28,6 +33,9 @@ std::size_t count_self_intersections(const Work_mesh& m) {
   CGAL::Polygon_mesh_processing::self_intersections(m, std::back_inserter(pairs));
   return pairs.size();
 }
+
+// Meshes of fewer faces are tested in one piece: the threads would cost more than they save.
+constexpr std::size_t parallel_self_intersection_faces = 20000;
 
 // With the thesis level and Curve_density::drop no vertex is added for the curves, and each
 // network vertex needs a template vertex of its own for its segments to become mesh edges: with
@@ -135,7 +143,9 @@ void verify_fit(const Work_mesh& work, const Mesh_data& template_data, const Cur
   }
   if (check_self_intersections && v.non_finite_coordinates == 0) {
     v.self_intersection_checked = true;
-    v.self_intersects = CGAL::Polygon_mesh_processing::does_self_intersect(work);
+    const std::size_t slabs =
+        num_faces(work) < parallel_self_intersection_faces ? 1 : static_cast<std::size_t>(omp_get_max_threads());
+    v.self_intersects = does_self_intersect_in_slabs(work, slabs);
     if (v.self_intersects) {  // did the template have them already? (its mesh made again only then)
       Work_mesh template_mesh;
       build_triangle_mesh(template_data, template_mesh);
@@ -148,6 +158,56 @@ void verify_fit(const Work_mesh& work, const Mesh_data& template_data, const Cur
 }
 
 }  // namespace
+
+bool does_self_intersect_in_slabs(const Work_mesh& tm, std::size_t slabs) {
+  namespace PMP = CGAL::Polygon_mesh_processing;
+  if (slabs <= 1 || num_faces(tm) < 2 * slabs) return PMP::does_self_intersect(tm);
+  CGAL::Bbox_3 box;
+  for (auto v : vertices(tm)) box += tm.point(v).bbox();
+  int axis = 0;
+  for (int a = 1; a < 3; ++a)
+    if (box.max(a) - box.min(a) > box.max(axis) - box.min(axis)) axis = a;
+  // Each face's extent along the axis, and the quantiles of its centres (twice the centres: the
+  // sum of the extent's ends, halved once at the end).
+  std::vector<std::array<double, 2>> extent;
+  std::vector<Work_mesh::Face_index> face_of;
+  extent.reserve(num_faces(tm));
+  face_of.reserve(num_faces(tm));
+  for (auto f : faces(tm)) {
+    const auto h = halfedge(f, tm);
+    const double a = tm.point(source(h, tm))[axis], b = tm.point(target(h, tm))[axis],
+                 c = tm.point(target(next(h, tm), tm))[axis];
+    extent.push_back({std::min({a, b, c}), std::max({a, b, c})});
+    face_of.push_back(f);
+  }
+  std::vector<double> centre(extent.size());
+  for (std::size_t i = 0; i < extent.size(); ++i) centre[i] = extent[i][0] + extent[i][1];
+  std::vector<double> q(slabs + 1);
+  q.front() = -HUGE_VAL;
+  q.back() = HUGE_VAL;
+  for (std::size_t i = 1; i < slabs; ++i) {
+    const auto at = centre.begin() + static_cast<std::ptrdiff_t>(centre.size() * i / slabs);
+    std::nth_element(centre.begin(), at, centre.end());
+    q[i] = *at / 2;
+  }
+  std::vector<std::vector<Work_mesh::Face_index>> slab(slabs);
+  for (std::size_t f = 0; f < extent.size(); ++f)
+    for (std::size_t i = 0; i < slabs; ++i)
+      if (extent[f][1] >= q[i] && extent[f][0] <= q[i + 1]) slab[i].push_back(face_of[f]);
+  std::vector<char> intersects(slabs, 0);
+  std::exception_ptr failure;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(static_cast<int>(slabs))
+  for (std::ptrdiff_t i = 0; i < static_cast<std::ptrdiff_t>(slabs); ++i) {
+    try {
+      intersects[i] = PMP::does_self_intersect(slab[i], tm);
+    } catch (...) {
+#pragma omp critical(meshfit_self_intersection_failure)
+      failure = std::current_exception();
+    }
+  }
+  if (failure) std::rethrow_exception(failure);
+  return std::find(intersects.begin(), intersects.end(), 1) != intersects.end();
+}
 
 void fit_work(const Mesh_data& template_data, const Curve_network& network, const std::vector<Correspondence>& pairs,
               const Fit_options& options, double unit, Fit_report& report, Work_mesh& work, Mesh_data& result) {

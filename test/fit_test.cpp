@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <map>
+#include <random>
 #include <set>
 
 namespace meshfit_fit_test {  // one per file: the test files are compiled together (test/CMakeLists.txt)
@@ -747,6 +748,42 @@ TEST_CASE("fit: a template that intersects itself does not excuse new intersecti
   v.template_self_intersecting_pairs = v.self_intersecting_pairs = 0;
   REQUIRE(v.problems().size() == 1);
   CHECK(v.problems()[0] == "the result intersects itself (the template does not)");
+}
+
+TEST_CASE("fit: the self-intersection test in slabs says what CGAL says of the whole mesh", "[fit][verification]") {
+  // A wavy 40x40 sheet (no intersection: a height field), then one vertex at a time thrown across
+  // the sheet by a seeded random offset, which makes its faces cut others in most trials and
+  // in some not: every slab count must say what CGAL's test of the whole mesh (the oracle's
+  // count) says, wherever the slab ends fall among the faces that intersect.
+  meshfit::Mesh_data sheet = meshfit_test::grid(40);
+  std::mt19937 random(20261205);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  for (auto& p : sheet.points) p = meshfit::Point_3(p.x(), p.y(), 0.3 * std::sin(0.5 * p.x()) + 0.02 * unit(random));
+  Mesh tm;
+  meshfit::build_triangle_mesh(sheet, tm);
+  for (std::size_t slabs : {1, 2, 3, 5, 8}) CHECK_FALSE(meshfit::internal::does_self_intersect_in_slabs(tm, slabs));
+  std::size_t with = 0, without = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    Mesh moved = tm;
+    const Mesh::Vertex_index v(static_cast<std::uint32_t>(std::uniform_int_distribution<int>(0, 1680)(random)));
+    const meshfit::Point_3 p = moved.point(v);
+    moved.point(v) = meshfit::Point_3(p.x() + 4 * unit(random), p.y() + 4 * unit(random), p.z() + 0.5 * unit(random));
+    const bool oracle = fit_oracle::self_intersections(moved) > 0;
+    (oracle ? with : without) += 1;
+    for (std::size_t slabs : {2, 3, 5, 8}) {
+      INFO("trial " << trial << ", " << slabs << " slabs");
+      CHECK(meshfit::internal::does_self_intersect_in_slabs(moved, slabs) == oracle);
+    }
+  }
+  CHECK(with >= 10);
+  CHECK(without >= 5);
+  // A face of no area counts as an intersection, as in CGAL's test: a corner moved onto the
+  // opposite edge's midpoint.
+  Mesh flat = tm;
+  const auto h = halfedge(*faces(flat).begin(), flat);
+  const meshfit::Point_3 a = flat.point(source(h, flat)), b = flat.point(target(h, flat));
+  flat.point(target(next(h, flat), flat)) = CGAL::midpoint(a, b);
+  for (std::size_t slabs : {1, 2, 5}) CHECK(meshfit::internal::does_self_intersect_in_slabs(flat, slabs));
 }
 
 }  // namespace meshfit_fit_test

@@ -1,5 +1,6 @@
 // meshfit internal: checks of fit's verification that tests use with their own inputs: folded
-// and degenerate faces, and the number of regions a network bounds on a genus-0 mesh.
+// and degenerate faces, self-intersection, and the number of regions a network bounds on a
+// genus-0 mesh.
 #ifndef MESHFIT_INTERNAL_FIT_CHECKS_H
 #define MESHFIT_INTERNAL_FIT_CHECKS_H
 
@@ -7,6 +8,9 @@
 #include <meshfit/predicates.h>
 #include <meshfit/internal/border_cycles.h>
 #include <meshfit/internal/stage_support.h>
+#include <meshfit/kernel.h>
+
+#include <CGAL/Surface_mesh.h>
 
 #include <cstddef>
 #include <optional>
@@ -34,6 +38,17 @@ std::pair<std::size_t, std::size_t> folded_and_degenerate(const TriangleMesh& tm
   }
   return {folded, degenerate};
 }
+
+/// Whether `tm` intersects itself, as CGAL::Polygon_mesh_processing::does_self_intersect says of
+/// the whole mesh (a face of no area counts as an intersection), tested in `slabs` slabs across
+/// the longest side of its bounding box, one thread per slab (compiled once, src/fit.cpp). Slab i
+/// holds every face whose extent along that side meets [q_i, q_i+1] (q the quantiles of the
+/// faces' centres, q_0 = -inf, q_slabs = +inf): two faces that intersect overlap along that side at
+/// some value, which lies in some slab, so both are in that slab's test. Faces across a slab's
+/// ends are tested twice. On the 1 310 720-face scale output, 2 slabs on 2 cores: 1.55-1.73 s ->
+/// 0.93-0.97 s (CGAL's own Parallel_tag with TBB: 3.1-3.2 s, as it shuffles the boxes and splits
+/// them many times).
+bool does_self_intersect_in_slabs(const CGAL::Surface_mesh<Point_3>& tm, std::size_t slabs);
 
 /// The number of regions `network` bounds on `tm` once every segment is a chain of the edges
 /// `curve`, when the topology of `tm` determines it (connected, genus 0, each border cycle either
