@@ -14,14 +14,7 @@ set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${1:-$root/build}"
 "$root/scripts/install-deps.sh"
-need=()
-for p in python3-scipy python3-numpy python3-threadpoolctl libopenblas0-pthread; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || need+=("$p")
-done
-if [ ${#need[@]} -gt 0 ]; then
-  sudo_cmd=(); [ "$(id -u)" -ne 0 ] && sudo_cmd=(sudo)
-  DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${need[@]}" >/dev/null
-fi
+"$root/bench/install-peers.sh"
 "$root/scripts/build.sh" "$build" -DMESHFIT_BUILD_BENCHMARKS=ON >/dev/null
 
 py=/usr/bin/python3   # Debian's python, where python3-scipy lives

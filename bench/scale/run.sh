@@ -5,6 +5,7 @@
 # with the thesis's fine level (`--fine-level thesis`, up to --thesis-up-to faces, each run cut at
 # --timeout seconds) and a do-it-yourself SciPy script (diy_scipy.py: the two RBF levels only).
 # Prints one table (seconds, peak MB, verified or why not) and the growth factor between sizes.
+# Installs SciPy when missing (bench/install-peers.sh).
 #   bench/scale/run.sh [--build DIR] [--work DIR] [--timeout S] [--thesis-up-to FACES] [--no-build]
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
@@ -20,6 +21,7 @@ while [ $# -gt 0 ]; do
   esac
 done
 if [ -z "$work" ]; then work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT; fi
+"$root/bench/install-peers.sh"
 py=/usr/bin/python3   # Debian's python, where python3-scipy lives
 if [ "$do_build" = 1 ]; then
   cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
