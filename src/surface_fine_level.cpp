@@ -127,6 +127,9 @@ class Surface_fine_level {
   // Two network vertices placed at one point (curves denser than the template's faces there)
   // would make a segment of zero length, which no network holds.
   void embed_segments();
+  // The refusal of embed_segments when two network vertices were placed at one point or within
+  // the network's merge tolerance of each other: it names the two nearest (polyline and point).
+  [[noreturn]] void refuse_coincident_placements() const;
   // Each segment's chain: its boundary arc, or the chain stage 2 made of it. Where stage 2 could
   // not make one (its insertion refuses to fold the surface, and its fallback moves vertices onto
   // the chord, which may lie off the surface), the shortest edge path from one end to the other
@@ -555,14 +558,12 @@ void Surface_fine_level::embed_segments() {
   // The network as projected, but for the boundary segments, embedded by stage 2's insertion.
   // Two network vertices placed at one point (curves denser than the template's faces there)
   // would make a segment of zero length, which no network holds.
-  const char* too_dense = "network vertices land on the surface where others do: the curves are "
-                          "denser than the template can hold there (refine the template)";
   std::vector<Curve_network::Polyline> lines;
   for (std::size_t k = 0; k < network.segments().size(); ++k)
     if (arc[k].empty()) {
       lines.push_back({s.to_point(s.vertex[mesh_of[network.segments()[k][0]]]),
                        s.to_point(s.vertex[mesh_of[network.segments()[k][1]]])});
-      if (lines.back()[0] == lines.back()[1]) throw Algorithm_failure("deform", too_dense);
+      if (lines.back()[0] == lines.back()[1]) refuse_coincident_placements();
     }
   for (auto e : edges(tm)) put(curve, e, false);
   if (!lines.empty()) {
@@ -572,14 +573,14 @@ void Surface_fine_level::embed_segments() {
       try {
         return Curve_network(lines);
       } catch (const Invalid_input&) {
-        throw Algorithm_failure("deform", too_dense);
+        refuse_coincident_placements();
       }
     }();
     std::vector<bool> used(nv, false);
     for (std::size_t k = 0; k < network.segments().size(); ++k)
       if (arc[k].empty()) used[network.segments()[k][0]] = used[network.segments()[k][1]] = true;
     if (projected.number_of_vertices() != static_cast<std::size_t>(std::count(used.begin(), used.end(), true)))
-      throw Algorithm_failure("deform", too_dense);
+      refuse_coincident_placements();
     try {
       // Stage 2's progress during the embedding is reported as this stage's.
       const Progress_callback forward = [this](const Progress_step& step) {
@@ -593,6 +594,49 @@ void Surface_fine_level::embed_segments() {
                                             "): use a finer template, or sparser curves");
     }
   }
+}
+
+void Surface_fine_level::refuse_coincident_placements() const {
+  // The nearest two placed network vertices: a sweep along x over the placements in x order.
+  std::vector<std::size_t> order(nv);
+  for (std::size_t v = 0; v < nv; ++v) order[v] = v;
+  const auto at = [&](std::size_t v) { return s.to_point(s.vertex[mesh_of[v]]); };
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t a, std::size_t b) { return CGAL::compare_xyz(at(a), at(b)) == CGAL::SMALLER; });
+  double best = std::numeric_limits<double>::infinity();
+  std::size_t a = 0, b = 0;
+  for (std::size_t i = 0; i < nv; ++i)
+    for (std::size_t j = i + 1; j < nv && at(order[j]).x() - at(order[i]).x() < best; ++j) {
+      const double d = std::sqrt(CGAL::squared_distance(at(order[i]), at(order[j])));
+      if (d < best) best = d, a = std::min(order[i], order[j]), b = std::max(order[i], order[j]);
+    }
+  // Where each of the two is in the user's file: its first polyline and point there.
+  const auto where = [&](std::size_t v) {
+    for (std::size_t k = 0; k < network.polylines().size(); ++k) {
+      const auto& pl = network.polylines()[k];
+      const auto it = std::find(pl.begin(), pl.end(), v);
+      if (it != pl.end()) return std::pair<std::size_t, std::size_t>(k, std::size_t(it - pl.begin()) + 1);
+    }
+    return std::pair<std::size_t, std::size_t>(0, 0);  // (every network vertex is on a polyline)
+  };
+  const auto [ka, ia] = where(a);
+  const auto [kb, ib] = where(b);
+  const std::string named =
+      ka == kb ? name_polylines({ka}) + " (in file order), points " + std::to_string(std::min(ia, ib)) + " and " +
+                     std::to_string(std::max(ia, ib))
+               : name_polylines({ka}) + ", point " + std::to_string(ia) + ", and " + name_polylines({kb}) +
+                     ", point " + std::to_string(ib) + " (in file order),";
+  const double size = bbox_diagonal(tm, vpm);
+  throw Algorithm_failure(
+      "deform",
+      "network vertices land on the surface where others do: " + named + " are placed " +
+          (best > 0 ? format_number(best / size) + " times the template's size apart" : std::string("at one point")) +
+          " on it (their nearest points on the surface after the coarse level coincide): the curves there are "
+          "denser than the template can hold, or run across the surface rather than along it; refine the "
+          "template there, or move or remove one of those points",
+      {{"network_vertex_a", static_cast<double>(a + 1)},
+       {"network_vertex_b", static_cast<double>(b + 1)},
+       {"distance_over_template_size", best / size}});
 }
 
 void Surface_fine_level::collect_chains() {

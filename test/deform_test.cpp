@@ -14,6 +14,8 @@
 #include "test_helpers.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <optional>
 #include <set>
 
@@ -654,6 +656,95 @@ TEST_CASE("deform: the message for faces left turned over names what each fine l
   CHECK_THAT(m, Catch::StartsWith("3 faces still turn over after 7 rounds of untangling"));
   CHECK_THAT(m, Catch::Contains("313 edges were split between curves"));
   CHECK_THAT(m, Catch::Contains("use a finer template (subdivide it)") && Catch::Contains("give more correspondences"));
+}
+
+namespace {
+// A 10×10 grid in z = 0 under a square loop of 48 points (x, y in [2.3, 7.7]) and a second
+// polyline of `spur` points on the vertical line through (5.3, 5.6), z from -0.3 to 0.3: a curve
+// that runs across the surface, every point of it with the same nearest point on the grid. Pairs
+// at the loop's corners.
+Example grid_with_a_spur(std::size_t spur) {
+  Example e;
+  meshfit::build_triangle_mesh(meshfit_test::grid(10), e.tm);
+  const double lo = 2.3, hi = 7.7;
+  meshfit::Curve_network::Polyline loop, across;
+  for (int side = 0; side < 4; ++side)
+    for (int k = 0; k < 12; ++k) {
+      const double t = lo + (hi - lo) * k / 12;
+      const meshfit::Point_3 p[4] = {{t, lo, 0}, {hi, t, 0}, {hi + lo - t, hi, 0}, {lo, hi + lo - t, 0}};
+      loop.push_back(p[side]);
+    }
+  loop.push_back(loop.front());
+  for (std::size_t k = 0; k < spur; ++k) across.emplace_back(5.3, 5.6, -0.3 + 0.6 * double(k) / double(spur - 1));
+  e.network = meshfit::Curve_network({loop, across});
+  for (const auto& [x, y] : std::vector<std::pair<double, double>>{{lo, lo}, {hi, lo}, {hi, hi}, {lo, hi}}) {
+    meshfit::Correspondence c;
+    c.template_vertex = std::size_t(std::lround(y)) * 11 + std::size_t(std::lround(x));
+    for (std::size_t v = 0; v < e.network.number_of_vertices(); ++v)
+      if (e.network.point(v) == meshfit::Point_3(x, y, 0)) c.network_vertex = v;
+    e.pairs.push_back(c);
+  }
+  return e;
+}
+
+double figure(const meshfit::Algorithm_failure& f, const std::string& name) {
+  for (const auto& x : f.figures())
+    if (x.name == name) return x.value;
+  FAIL("no figure " << name);
+  return 0;
+}
+}  // namespace
+
+TEST_CASE("deform: network vertices that the surface level places at one point are refused, naming two of them",
+          "[deform][surface][message]") {
+  Example e = grid_with_a_spur(20);
+  REQUIRE(e.network.number_of_vertices() == 48 + 20);
+  try {
+    meshfit::deform_template(e.tm, e.network, e.pairs);
+    FAIL("20 points on a line across the surface were embedded");
+  } catch (const meshfit::Algorithm_failure& f) {
+    const std::string m = f.what();
+    CHECK_THAT(m, Catch::StartsWith("deform: network vertices land on the surface where others do: polyline 2 "
+                                    "(in file order), points "));
+    CHECK_THAT(m, Catch::Contains("refine the template there, or move or remove one of those points"));
+    // The two named are points of the spur (the loop's points are all apart on the grid), and
+    // the figures name the same two network vertices.
+    const auto& spur = e.network.polylines()[1];
+    std::size_t i = 0, j = 0;
+    REQUIRE(std::sscanf(m.c_str() + m.find("points ") + 7, "%zu and %zu", &i, &j) == 2);
+    REQUIRE(1 <= i);
+    REQUIRE(i < j);
+    REQUIRE(j <= spur.size());
+    CHECK(figure(f, "network_vertex_a") == double(std::min(spur[i - 1], spur[j - 1]) + 1));
+    CHECK(figure(f, "network_vertex_b") == double(std::max(spur[i - 1], spur[j - 1]) + 1));
+    CHECK(figure(f, "distance_over_template_size") < 1e-9);
+  }
+}
+
+TEST_CASE("deform: the thesis level stops flip prevention before the mesh outgrows its bound, and says so",
+          "[deform][thesis][message]") {
+  // The spur's points pull paired template vertices across each other round after round; with
+  // rounds enough, subdivision would pass 8 × (121 + 58) vertices.
+  Example e = grid_with_a_spur(10);
+  try {
+    meshfit::deform_template(
+        e.tm, e.network, e.pairs,
+        meshfit::parameters::fine_level(meshfit::Fine_level::thesis).flip_prevention_rounds(300));
+    FAIL("flip prevention went on without bound, or succeeded on a curve across the surface");
+  } catch (const meshfit::Algorithm_failure& f) {
+    const std::string m = f.what();
+    CHECK_THAT(m, Catch::StartsWith("deform: flip prevention stopped in round "));
+    CHECK_THAT(m, Catch::Contains("subdividing them would grow the mesh past 1432 vertices (8 × (template + "
+                                  "network vertices))"));
+    CHECK_THAT(m, Catch::Contains("more correspondences help"));
+    CHECK(figure(f, "vertex_bound") == 8 * (121 + 58));
+    CHECK(figure(f, "round") > 1);
+    CHECK(figure(f, "round") < 300);
+    CHECK(figure(f, "flipped_faces") > 0);
+    // The faces that flipped were faces of the mesh, which had not outgrown its bound: an open
+    // mesh of V vertices has fewer than 2 V faces.
+    CHECK(figure(f, "flipped_faces") < 2 * figure(f, "vertex_bound"));
+  }
 }
 
 namespace {
