@@ -597,16 +597,23 @@ void Surface_fine_level::embed_segments() {
 }
 
 void Surface_fine_level::refuse_coincident_placements() const {
-  // The nearest two placed network vertices: a sweep along x over the placements in x order.
+  // The nearest two placed network vertices: a sweep over the placements in order along the
+  // longest side of their box (a network on the surface spreads along it).
+  const auto at = [&](std::size_t v) { return s.to_point(s.vertex[mesh_of[v]]); };
+  Bbox_3 box;
+  for (std::size_t v = 0; v < nv; ++v) box += at(v).bbox();
+  int axis = 0;
+  for (int k = 1; k < 3; ++k)
+    if (box.max(k) - box.min(k) > box.max(axis) - box.min(axis)) axis = k;
   std::vector<std::size_t> order(nv);
   for (std::size_t v = 0; v < nv; ++v) order[v] = v;
-  const auto at = [&](std::size_t v) { return s.to_point(s.vertex[mesh_of[v]]); };
-  std::sort(order.begin(), order.end(),
-            [&](std::size_t a, std::size_t b) { return CGAL::compare_xyz(at(a), at(b)) == CGAL::SMALLER; });
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return at(a)[axis] < at(b)[axis] || (at(a)[axis] == at(b)[axis] && a < b);
+  });
   double best = std::numeric_limits<double>::infinity();
   std::size_t a = 0, b = 0;
   for (std::size_t i = 0; i < nv; ++i)
-    for (std::size_t j = i + 1; j < nv && at(order[j]).x() - at(order[i]).x() < best; ++j) {
+    for (std::size_t j = i + 1; j < nv && at(order[j])[axis] - at(order[i])[axis] < best; ++j) {
       const double d = std::sqrt(CGAL::squared_distance(at(order[i]), at(order[j])));
       if (d < best) best = d, a = std::min(order[i], order[j]), b = std::max(order[i], order[j]);
     }
