@@ -94,8 +94,10 @@ void validate_correspondences(const std::vector<Correspondence>& pairs,
                                        "pairs spanning 3D");
   }
   // Coplanar on both sides is the thesis's case for auxiliary pairs (Rbf_interpolant::fit); a plane
-  // of network points for template vertices spanning 3D would flatten the template.
-  if (internal::all_coplanar(targets) && !internal::all_coplanar(sources))
+  // of network points for template vertices spanning 3D would flatten the template. Both judged
+  // as the RBF and rounding see them, not exactly: a plane of points turned by a rotation is no
+  // longer exactly one once rounded, and the verdict must not depend on where the input lies.
+  if (internal::coplanar_within_rounding(targets) && !internal::nearly_coplanar(sources))
     throw Invalid_input(file_only, "the network points of the " + std::to_string(pairs.size()) +
                                        " correspondences are all coplanar but their template vertices are not: "
                                        "the coarse RBF would flatten the template; add a pair off that plane");

@@ -31,6 +31,16 @@ inline bool all_coplanar(const std::vector<Point_3>& pts) {
   return true;
 }
 
+/// True when the points lie in one plane up to the rounding of their coordinates: exactly, or with
+/// the thinnest extent of the cloud within rounding of the coordinates' magnitude (a plane of points
+/// that was turned or moved, whose coordinates were rounded afterwards). Defined in rbf.cpp, beside
+/// the RBF's own, more lenient, nearly_coplanar.
+bool coplanar_within_rounding(const std::vector<Point_3>& pts);
+
+/// True when the RBF takes the points for coplanar and adds auxiliary pairs off their plane
+/// (rbf_coplanarity_bound): exactly, or nearly. Defined in rbf.cpp.
+bool nearly_coplanar(const std::vector<Point_3>& pts);
+
 }  // namespace internal
 }  // namespace meshfit
 

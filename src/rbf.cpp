@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <tuple>
 
@@ -234,13 +235,6 @@ void check_span(const std::vector<Point_3>& centres) {
   }
 }
 
-// Coplanar exactly, or nearly (the affine block's conditioning).
-bool nearly_coplanar(const std::vector<Point_3>& centres) {
-  const auto [centre_shift, centre_diag] = frame_of(centres);
-  return internal::all_coplanar(centres) ||
-         affine_conditioning(centres, centre_shift, 1.0 / centre_diag).first < rbf_coplanarity_bound;
-}
-
 // The largest distance of the points from `centre`: a size that does not change when they turn
 // (a bounding box's diagonal does).
 double radius(const std::vector<Point_3>& pts, const Vector_3& centre) {
@@ -303,6 +297,27 @@ void add_auxiliary_pairs(Rbf_pairs& pairs) {
 
 }  // namespace
 
+namespace internal {
+
+// Coplanar exactly, or nearly (the affine block's conditioning).
+bool nearly_coplanar(const std::vector<Point_3>& pts) {
+  const auto [shift, diag] = frame_of(pts);
+  return all_coplanar(pts) || affine_conditioning(pts, shift, 1.0 / diag).first < rbf_coplanarity_bound;
+}
+
+// The conditioning ratio (the thinnest singular value over the largest, in the cloud's own frame)
+// against what rounding coordinates of magnitude m leaves of a plane of extent `diag`: a few ulps
+// of m over diag.
+bool coplanar_within_rounding(const std::vector<Point_3>& pts) {
+  if (all_coplanar(pts)) return true;
+  const auto [shift, diag] = frame_of(pts);
+  double magnitude = 0;
+  for (const Point_3& p : pts) magnitude = std::max({magnitude, std::abs(p.x()), std::abs(p.y()), std::abs(p.z())});
+  return affine_conditioning(pts, shift, 1.0 / diag).first <= 64 * std::numeric_limits<double>::epsilon() * magnitude / diag;
+}
+
+}  // namespace internal
+
 Rbf_interpolant Rbf_interpolant::fit(const std::vector<Point_3>& centres_in,
                                      const std::vector<Point_3>& values_in, Rbf_kernel kernel,
                                      const std::vector<Vector_3>& normals_in, Rbf_fit_report* report,
@@ -312,7 +327,7 @@ Rbf_interpolant Rbf_interpolant::fit(const std::vector<Point_3>& centres_in,
   Rbf_pairs pairs = distinct_pairs(centres_in, values_in, normals_in);
   check_span(pairs.centres);
   const std::size_t n0 = pairs.centres.size();
-  if (nearly_coplanar(pairs.centres)) add_auxiliary_pairs(pairs);
+  if (internal::nearly_coplanar(pairs.centres)) add_auxiliary_pairs(pairs);
   double residual = 0;
   Rbf_interpolant E = solve(pairs.centres, pairs.values, kernel, memory_limit, residual);
   // Pairs on an open template (a disc, a patch): their layout along the surface fixes the

@@ -3,6 +3,10 @@
 #include "malformed_catalogue.h"
 #include "test_helpers.h"
 
+#include <array>
+#include <cmath>
+#include <random>
+
 namespace meshfit_correspondence_test {  // one per file: the test files are compiled together (test/CMakeLists.txt)
 
 using namespace meshfit_test;
@@ -53,6 +57,65 @@ TEST_CASE("correspondence: pairs coplanar on both sides are accepted (auxiliary 
   // Template vertices 0..3 lie in z = 0, and so do these network points.
   const auto pairs = meshfit::parse_correspondences("0 0 0 0\n1 1 0 0\n2 1 1 0\n3 0 1 0\n", "p", flat);
   CHECK_NOTHROW(meshfit::validate_correspondences(pairs, template_points(), flat, true));
+}
+
+TEST_CASE("correspondence: the coplanarity verdicts do not depend on where the input lies", "[correspondence][placement]") {
+  // The two cases above (a plane of pairs on both sides: accepted; network points in a plane for
+  // template vertices spanning 3D: refused), each side turned by its own random rotation, scaled by
+  // 1e-4, 1 or 1e4 and moved by 1e6: once rounded, a turned plane of points is seldom exactly one.
+  std::mt19937 rng(20261205);
+  std::normal_distribution<double> gauss;
+  auto transform = [&](double scale) {
+    double q[4];
+    for (double& x : q) x = gauss(rng);
+    const double n = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+    const double a = q[0] / n, b = q[1] / n, c = q[2] / n, d = q[3] / n;
+    const double r[3][3] = {{a * a + b * b - c * c - d * d, 2 * (b * c - a * d), 2 * (b * d + a * c)},
+                            {2 * (b * c + a * d), a * a - b * b + c * c - d * d, 2 * (c * d - a * b)},
+                            {2 * (b * d - a * c), 2 * (c * d + a * b), a * a - b * b - c * c + d * d}};
+    return [=](const meshfit::Point_3& p) {
+      double o[3];
+      for (int i = 0; i < 3; ++i) o[i] = scale * (r[i][0] * p.x() + r[i][1] * p.y() + r[i][2] * p.z()) + 1e6 * (i + 1);
+      return meshfit::Point_3(o[0], o[1], o[2]);
+    };
+  };
+  const std::vector<meshfit::Point_3> square{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  std::size_t turned_off_plane = 0, accepted = 0, refused = 0, runs = 0;
+  for (double scale : {1e-4, 1.0, 1e4})
+    for (int seed = 0; seed < 20; ++seed, ++runs) {
+      const auto to_template = transform(scale), to_network = transform(scale);
+      std::vector<meshfit::Point_3> tp;
+      for (const auto& p : template_points()) tp.push_back(to_template(p));
+      meshfit::Curve_network::Polyline loop;
+      for (const auto& p : square) loop.push_back(to_network(p));
+      loop.push_back(loop.front());
+      const meshfit::Curve_network flat({loop});
+      REQUIRE(flat.number_of_vertices() == 4);
+      turned_off_plane += !CGAL::coplanar(tp[0], tp[1], tp[2], tp[3]);
+      turned_off_plane += !CGAL::coplanar(flat.point(0), flat.point(1), flat.point(2), flat.point(3));
+      auto pairs_with = [](std::array<std::size_t, 4> t) {
+        std::vector<meshfit::Correspondence> pairs(4);
+        for (std::size_t i = 0; i < 4; ++i) pairs[i].template_vertex = t[i], pairs[i].network_vertex = i;
+        return pairs;
+      };
+      try {
+        meshfit::validate_correspondences(pairs_with({0, 2, 1, 3}), tp, flat, true);
+        ++accepted;
+      } catch (const meshfit::Invalid_input& e) {
+        UNSCOPED_INFO("scale " << scale << ", seed " << seed << ": " << e.what());
+      }
+      try {
+        meshfit::validate_correspondences(pairs_with({0, 2, 1, 4}), tp, flat, true);
+        UNSCOPED_INFO("scale " << scale << ", seed " << seed << ": a plane of network points for an octahedron's "
+                      "vertices spanning 3D was accepted");
+      } catch (const meshfit::Invalid_input& e) {
+        refused += std::string(e.what()).find("network points of the 4 correspondences are all coplanar") !=
+                   std::string::npos;
+      }
+    }
+  CHECK(accepted == runs);
+  CHECK(refused == runs);
+  CHECK(2 * turned_off_plane > runs);  // a third of the point sets or more: not exactly coplanar ones only
 }
 
 TEST_CASE("correspondence: write then read gives the same pairs", "[correspondence]") {
