@@ -31,10 +31,10 @@ inline bool all_coplanar(const std::vector<Point_3>& pts) {
   return true;
 }
 
-/// True when the points lie in one plane up to the rounding of their coordinates: exactly, or with
-/// the thinnest extent of the cloud within rounding of the coordinates' magnitude (a plane of points
-/// that was turned or moved, whose coordinates were rounded afterwards). Defined in rbf.cpp, beside
-/// the RBF's own, more lenient, nearly_coplanar.
+/// True when the points lie in one plane up to the rounding of their coordinates: exactly, or
+/// within 4 units in the last place of the coordinates' largest magnitude of their least-squares
+/// plane (a plane of points that was turned or moved, its coordinates rounded afterwards). Defined
+/// in rbf.cpp, beside the RBF's own, more lenient, nearly_coplanar.
 bool coplanar_within_rounding(const std::vector<Point_3>& pts);
 
 /// True when the RBF takes the points for coplanar and adds auxiliary pairs off their plane

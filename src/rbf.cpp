@@ -305,15 +305,24 @@ bool nearly_coplanar(const std::vector<Point_3>& pts) {
   return all_coplanar(pts) || affine_conditioning(pts, shift, 1.0 / diag).first < rbf_coplanarity_bound;
 }
 
-// The conditioning ratio (the thinnest singular value over the largest, in the cloud's own frame)
-// against what rounding coordinates of magnitude m leaves of a plane of extent `diag`: a few ulps
-// of m over diag.
+// The cloud's thickness (the largest distance of a point from its least-squares plane) against
+// what rounding leaves of a plane: a few units in the last place of the coordinates' largest
+// magnitude. An absolute test, not one relative to the cloud's extent: 8 pairs of extent 4 moved
+// to x = 1e15 (where coordinates are multiples of 1/8) are 6 units thick, not a rounded plane.
 bool coplanar_within_rounding(const std::vector<Point_3>& pts) {
   if (all_coplanar(pts)) return true;
-  const auto [shift, diag] = frame_of(pts);
   double magnitude = 0;
   for (const Point_3& p : pts) magnitude = std::max({magnitude, std::abs(p.x()), std::abs(p.y()), std::abs(p.z())});
-  return affine_conditioning(pts, shift, 1.0 / diag).first <= 64 * std::numeric_limits<double>::epsilon() * magnitude / diag;
+  const double ulp = std::nextafter(magnitude, std::numeric_limits<double>::infinity()) - magnitude;
+  // Differences from the first point: exact for nearby coordinates, unlike a centroid far out.
+  Eigen::MatrixXd C(pts.size(), 3);
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const Vector_3 d = pts[i] - pts.front();
+    C.row(static_cast<Eigen::Index>(i)) << d.x(), d.y(), d.z();
+  }
+  C.rowwise() -= C.colwise().mean();
+  const Eigen::Vector3d normal = Eigen::JacobiSVD<Eigen::MatrixXd>(C, Eigen::ComputeThinV).matrixV().col(2);
+  return (C * normal).cwiseAbs().maxCoeff() <= 4 * ulp;
 }
 
 }  // namespace internal

@@ -118,6 +118,30 @@ TEST_CASE("correspondence: the coplanarity verdicts do not depend on where the i
   CHECK(2 * turned_off_plane > runs);  // a third of the point sets or more: not exactly coplanar ones only
 }
 
+TEST_CASE("correspondence: points far out, a few units in the last place thick, are not taken for a plane",
+          "[correspondence][placement]") {
+  // The example's 8 network points moved to x = 1e15, where x is a multiple of 1/8: their cloud
+  // (extent 4) is 0.74 thick, 6 units in the last place. Refused as "all coplanar" when the
+  // tolerance was relative to the cloud's extent; a plane rounded there is under 1 unit thick.
+  const std::vector<meshfit::Point_3> at_scale_1{{1.8680995472317172, 0, -0.25}, {-1.8680995472317172, 0, -0.25},
+                                                 {0.3, 0, 0.69208019766498163},  {0.3, 0, -0.69208019766498163},
+                                                 {0.3, 0.73754142049024984, -0.25}, {0.3, -0.73754142049024973, -0.25},
+                                                 {-1.7317341320849537, 0, 0.35019190414980561},
+                                                 {0.75350184574455914, 0, 0.64842022148934708}};
+  meshfit::Curve_network::Polyline far_out, flat_far_out;
+  for (const auto& p : at_scale_1) {
+    far_out.emplace_back(p.x() + 1e15, p.y(), p.z());
+    flat_far_out.emplace_back(p.x() + 1e15, p.y(), flat_far_out.size() % 2 * 0.125);
+  }
+  std::vector<meshfit::Correspondence> pairs(at_scale_1.size());
+  for (std::size_t i = 0; i < pairs.size(); ++i) pairs[i].template_vertex = pairs[i].network_vertex = i;
+  CHECK_NOTHROW(meshfit::validate_correspondences(pairs, at_scale_1, meshfit::Curve_network({far_out}), true));
+  // The same points in the plane z = 0 but for one unit in the last place (1/8) on every other one:
+  // not exactly coplanar, still refused for template vertices spanning 3D.
+  CHECK_THROWS_WITH(meshfit::validate_correspondences(pairs, at_scale_1, meshfit::Curve_network({flat_far_out}), true),
+                    Catch::Contains("correspondences are all coplanar"));
+}
+
 TEST_CASE("correspondence: write then read gives the same pairs", "[correspondence]") {
   Temp_dir dir;
   const auto pairs = meshfit::parse_correspondences(valid_pairs(), "p", network());
