@@ -1339,14 +1339,16 @@ void scale_family(Battery& bat) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 2 || argc > 3) {
-    std::cerr << "usage: make_battery OUTDIR [CGAL_MESH_DIR]\n       make_battery --scale OUTDIR\n";
-    return 2;
+  const char* usage = "usage: make_battery OUTDIR [CGAL_MESH_DIR]\n       make_battery --scale OUTDIR\n";
+  // An option other than --scale (--help, say) is not taken for the folder to write 270 cases in.
+  if (argc < 2 || argc > 3 || (argv[1][0] == '-' && std::string(argv[1]) != "--scale")) {
+    std::cerr << usage;
+    return argc > 1 && std::string(argv[1]) == "--help" ? 0 : 2;
   }
   try {
     if (std::string(argv[1]) == "--scale") {
       if (argc != 3) {
-        std::cerr << "usage: make_battery --scale OUTDIR\n";
+        std::cerr << usage;
         return 2;
       }
       const fs::path out = argv[2];
