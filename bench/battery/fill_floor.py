@@ -1,0 +1,118 @@
+#!/usr/bin/env python3
+"""How near the truth a surface can come that knows the truth only along the network.
+
+For the battery's icosphere-onto-analytic cases (bench/battery/make_battery.cpp: the truth is
+r(u) u over the unit directions u, r a superellipsoid's, a bumpy sphere's or a peanut's radius),
+the truth's radius is taken at the network's points only and filled in over the sphere of
+directions by a smooth interpolant: phi(d) = d or d^3 of the chordal distance d between
+directions, plus an affine term, through every network point. The fill is compared with the truth
+at the truth's vertices: |s(u) - r(u)| times the cosine between the direction and the truth's
+normal (the distance to first order), largest over the vertices, in % of the truth's
+bounding-box diagonal. No fitter is involved, and the fill is told the sphere parametrization
+that a fitter is not: a row whose two figures are both above the battery's 1 % bound (the
+great-circle networks) says that the curves alone do not pin the surface down to 1 % for these
+interpolants, whatever the fitter does between them; a low figure says the information is there.
+
+  fill_floor.py CASES_DIR          (CASES_DIR: the generator's output, build/battery/cases)
+
+Prints one row per base case (variants share their base's curves and truth).
+"""
+import os
+import sys
+
+import numpy as np
+
+
+# The radii of make_battery.cpp (superellipsoid_r, bumpy_r, peanut_r); checked below against each
+# case's truth.off, whose vertices are r(u) u.
+def superellipsoid(u):
+    p = 3.0
+    s = np.abs(u[:, 0] / 1.3) ** p + np.abs(u[:, 1] / 1.0) ** p + np.abs(u[:, 2] / 0.8) ** p
+    return s ** (-1 / p)
+
+
+def bumpy(u):
+    x, y, z = u.T
+    return 1.0 + 0.15 * (3 * x * x * y - y ** 3) + 0.5 * x * y * z + 0.08 * (5 * z ** 3 - 3 * z) / 2
+
+
+def peanut(u):
+    x = u[:, 0]
+    return np.sqrt(2 * x * x - 1 + np.sqrt(1.5 - 4 * x * x * (1 - x * x)))
+
+
+RADIUS = {"superellipsoid": superellipsoid, "bumpy": bumpy, "peanut": peanut}
+
+
+def read_off(path):
+    rows = [l.split() for l in open(path) if l.strip() and not l.startswith("#")]
+    nv, nf = int(rows[1][0]), int(rows[1][1])
+    v = np.array([[float(x) for x in r[:3]] for r in rows[2:2 + nv]])
+    f = np.array([[int(x) for x in r[1:4]] for r in rows[2 + nv:2 + nv + nf]])
+    return v, f
+
+
+def network_points(path):
+    pts = []
+    for line in open(path):
+        if line.startswith("#") or not line.strip():
+            continue
+        a = [float(x) for x in line.split()[1:]]
+        pts += [a[i:i + 3] for i in range(0, len(a), 3)]
+    return np.unique(np.array(pts), axis=0)
+
+
+def unit(p):
+    return p / np.linalg.norm(p, axis=1)[:, None]
+
+
+def vertex_normals(v, f):
+    n = np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]])
+    out = np.zeros_like(v)
+    for k in range(3):
+        np.add.at(out, f[:, k], n)
+    return unit(out)
+
+
+def fill(centres, values, at, kernel):
+    n = len(centres)
+    a = np.zeros((n + 4, n + 4))
+    a[:n, :n] = kernel(np.linalg.norm(centres[:, None] - centres[None], axis=2))
+    a[:n, n:] = np.hstack([np.ones((n, 1)), centres])
+    a[n:, :n] = a[:n, n:].T
+    sol = np.linalg.lstsq(a, np.concatenate([values, np.zeros(4)]), rcond=None)[0]
+    out = np.empty(len(at))
+    for i in range(0, len(at), 2000):
+        d = np.linalg.norm(at[i:i + 2000, None] - centres[None], axis=2)
+        out[i:i + 2000] = kernel(d) @ sol[:n] + sol[n] + at[i:i + 2000] @ sol[n + 1:]
+    return out
+
+
+def main():
+    if len(sys.argv) != 2:
+        sys.exit(__doc__)
+    cases = sys.argv[1]
+    print("| case | network points | fill phi=r, % | fill phi=r^3, % |")
+    print("|---|---:|---:|---:|")
+    for name in sorted(os.listdir(cases)):
+        parts = name.split("-")
+        if "@" in name or not name.startswith("ico") or len(parts) < 3 or parts[1] not in RADIUS:
+            continue
+        radius = RADIUS[parts[1]]
+        truth, faces = read_off(os.path.join(cases, name, "truth.off"))
+        u = unit(truth)
+        r = np.linalg.norm(truth, axis=1)
+        if np.max(np.abs(radius(u) - r)) > 1e-9 * np.max(r):
+            sys.exit(f"fill_floor.py: {name}: truth.off is not the {parts[1]} of make_battery.cpp")
+        diagonal = np.linalg.norm(truth.max(0) - truth.min(0))
+        cosine = np.abs((vertex_normals(truth, faces) * u).sum(1))
+        p = network_points(os.path.join(cases, name, "curves.polylines.txt"))
+        figures = []
+        for kernel in (lambda d: d, lambda d: d ** 3):
+            s = fill(unit(p), np.linalg.norm(p, axis=1), u, kernel)
+            figures.append(100 * np.max(np.abs(s - r) * cosine) / diagonal)
+        print(f"| {name} | {len(p)} | {figures[0]:.3f} | {figures[1]:.3f} |", flush=True)
+
+
+if __name__ == "__main__":
+    main()
