@@ -18,26 +18,7 @@ import numpy as np
 from scipy.interpolate import RBFInterpolator
 from scipy.spatial import cKDTree
 
-
-def read_off(path):
-    toks = [t for line in open(path) for t in line.split('#')[0].split()]
-    nv, nf = int(toks[1]), int(toks[2])
-    points = np.array(toks[4:4 + 3 * nv], float).reshape(-1, 3)
-    faces, i = [], 4 + 3 * nv
-    for _ in range(nf):
-        n = int(toks[i])
-        faces.append([int(t) for t in toks[i + 1:i + 1 + n]])
-        i += 1 + n
-    return points, np.array(faces)
-
-
-def read_curves(path):
-    points = []
-    for line in open(path):
-        t = line.split('#')[0].split()
-        if t:
-            points.append(np.array(t[1:1 + 3 * int(t[0])], float).reshape(-1, 3))
-    return np.unique(np.round(np.vstack(points), 12), axis=0)  # shared and closing points once
+from battery_io import read_curves, read_off
 
 
 def sample(points, faces, n=200000, seed=0):

@@ -4,8 +4,8 @@
 For the battery's icosphere-onto-analytic cases (bench/battery/make_battery.cpp: the truth is
 r(u) u over the unit directions u, r a superellipsoid's, a bumpy sphere's or a peanut's radius),
 the truth's radius is taken at the network's points only and filled in over the sphere of
-directions by a smooth interpolant: phi(d) = d or d^3 of the chordal distance d between
-directions, plus an affine term, through every network point. The fill is compared with the truth
+directions by a smooth interpolant (SciPy's RBFInterpolator): phi(d) = d or d^3 of the chordal
+distance d between directions, plus an affine term, through every network point. The fill is compared with the truth
 at the truth's vertices: |s(u) - r(u)| times the cosine between the direction and the truth's
 normal (the distance to first order), largest over the vertices, in % of the truth's
 bounding-box diagonal. No fitter is involved, and the fill is told the sphere parametrization
@@ -21,6 +21,9 @@ import os
 import sys
 
 import numpy as np
+from scipy.interpolate import RBFInterpolator
+
+from battery_io import read_curves, read_off
 
 
 # The radii of make_battery.cpp (superellipsoid_r, bumpy_r, peanut_r); checked below against each
@@ -44,24 +47,6 @@ def peanut(u):
 RADIUS = {"superellipsoid": superellipsoid, "bumpy": bumpy, "peanut": peanut}
 
 
-def read_off(path):
-    rows = [l.split() for l in open(path) if l.strip() and not l.startswith("#")]
-    nv, nf = int(rows[1][0]), int(rows[1][1])
-    v = np.array([[float(x) for x in r[:3]] for r in rows[2:2 + nv]])
-    f = np.array([[int(x) for x in r[1:4]] for r in rows[2 + nv:2 + nv + nf]])
-    return v, f
-
-
-def network_points(path):
-    pts = []
-    for line in open(path):
-        if line.startswith("#") or not line.strip():
-            continue
-        a = [float(x) for x in line.split()[1:]]
-        pts += [a[i:i + 3] for i in range(0, len(a), 3)]
-    return np.unique(np.array(pts), axis=0)
-
-
 def unit(p):
     return p / np.linalg.norm(p, axis=1)[:, None]
 
@@ -72,20 +57,6 @@ def vertex_normals(v, f):
     for k in range(3):
         np.add.at(out, f[:, k], n)
     return unit(out)
-
-
-def fill(centres, values, at, kernel):
-    n = len(centres)
-    a = np.zeros((n + 4, n + 4))
-    a[:n, :n] = kernel(np.linalg.norm(centres[:, None] - centres[None], axis=2))
-    a[:n, n:] = np.hstack([np.ones((n, 1)), centres])
-    a[n:, :n] = a[:n, n:].T
-    sol = np.linalg.lstsq(a, np.concatenate([values, np.zeros(4)]), rcond=None)[0]
-    out = np.empty(len(at))
-    for i in range(0, len(at), 2000):
-        d = np.linalg.norm(at[i:i + 2000, None] - centres[None], axis=2)
-        out[i:i + 2000] = kernel(d) @ sol[:n] + sol[n] + at[i:i + 2000] @ sol[n + 1:]
-    return out
 
 
 def main():
@@ -106,10 +77,10 @@ def main():
             sys.exit(f"fill_floor.py: {name}: truth.off is not the {parts[1]} of make_battery.cpp")
         diagonal = np.linalg.norm(truth.max(0) - truth.min(0))
         cosine = np.abs((vertex_normals(truth, faces) * u).sum(1))
-        p = network_points(os.path.join(cases, name, "curves.polylines.txt"))
+        p = read_curves(os.path.join(cases, name, "curves.polylines.txt"))
         figures = []
-        for kernel in (lambda d: d, lambda d: d ** 3):
-            s = fill(unit(p), np.linalg.norm(p, axis=1), u, kernel)
+        for kernel in ("linear", "cubic"):  # SciPy's -d and d^3, both with an affine term
+            s = RBFInterpolator(unit(p), np.linalg.norm(p, axis=1), kernel=kernel, degree=1)(u)
             figures.append(100 * np.max(np.abs(s - r) * cosine) / diagonal)
         print(f"| {name} | {len(p)} | {figures[0]:.3f} | {figures[1]:.3f} |", flush=True)
 
