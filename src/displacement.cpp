@@ -11,7 +11,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <string>
+#include <utility>
 
 namespace meshfit {
 
@@ -62,28 +64,66 @@ void check_sizes(std::size_t n, const std::vector<bool>& constrained, const std:
 // 0.2 s), with the operations of Eigen's product in its order (the sum over k ascending of
 // (K_ki / M_k) K_kj, then the scale, then `extra`): the same numbers to the last bit, so that a
 // fit does not change with the way its matrix is written.
+// The rows of K (and M) that the energies share: vertex k's row over its border neighbours when
+// it has any (weight 1, M_k their count: the Laplacian along the border), else over all of them
+// with adj.weight (1 when empty) and M_k = adj.mass[k] (the number of neighbours when empty).
+struct Laplacian_rows {
+  const Vertex_adjacency& adj;
+  bool has_border = false;
+  std::vector<double> mass, diagonal;
+  std::vector<bool> border_vertex;
+
+  explicit Laplacian_rows(const Vertex_adjacency& a) : adj(a) {
+    const std::size_t n = adj.size();
+    if (!adj.border_edge.empty() && adj.border_edge.size() != adj.neighbours.size())
+      throw Invalid_input("displacement: " + std::to_string(adj.border_edge.size()) + " border flags for " +
+                          std::to_string(adj.neighbours.size()) + " neighbours");
+    if ((!adj.weight.empty() && adj.weight.size() != adj.neighbours.size()) || (!adj.mass.empty() && adj.mass.size() != n))
+      throw Invalid_input("displacement: " + std::to_string(adj.weight.size()) + " edge weights and " +
+                          std::to_string(adj.mass.size()) + " masses for " + std::to_string(adj.neighbours.size()) +
+                          " neighbours and " + std::to_string(n) + " vertices");
+    has_border = std::find(adj.border_edge.begin(), adj.border_edge.end(), true) != adj.border_edge.end();
+    mass.resize(n), diagonal.resize(n), border_vertex.assign(n, false);
+    for (std::size_t k = 0; k < n; ++k) {
+      std::size_t b = 0;
+      for (std::size_t m = adj.offsets[k]; m < adj.offsets[k + 1]; ++m) b += on_border(m);
+      border_vertex[k] = b > 0;
+      mass[k] = b > 0 ? static_cast<double>(b) : degree(k);
+      diagonal[k] = mass[k];
+      if (b == 0 && !adj.weight.empty()) {
+        diagonal[k] = 0;
+        for (std::size_t m = adj.offsets[k]; m < adj.offsets[k + 1]; ++m) diagonal[k] += adj.weight[m];
+      }
+      if (b == 0 && !adj.mass.empty()) mass[k] = adj.mass[k];
+    }
+  }
+  double degree(std::size_t i) const { return static_cast<double>(adj.offsets[i + 1] - adj.offsets[i]); }
+  bool on_border(std::size_t m) const { return has_border && adj.border_edge[m]; }
+  // Whether neighbour position m of vertex k is in k's row, and its weight there.
+  bool in_row(std::size_t k, std::size_t m) const { return !border_vertex[k] || on_border(m); }
+  double weight(std::size_t k, std::size_t m) const { return adj.weight.empty() || border_vertex[k] ? 1.0 : adj.weight[m]; }
+};
+
 Sparse energy_matrix(const Vertex_adjacency& adj, int order, double scale, const Sparse* extra = nullptr) {
   const std::size_t n = adj.size();
   const auto N = static_cast<Eigen::Index>(n);
-  auto degree = [&](std::size_t i) { return static_cast<double>(adj.offsets[i + 1] - adj.offsets[i]); };
-  // Whether the edge to the neighbour at position m lies on the border; a vertex's row of the
-  // thin-plate Laplacian: its border neighbours when it has any, else all (M_k their count).
-  if (!adj.border_edge.empty() && adj.border_edge.size() != adj.neighbours.size())
-    throw Invalid_input("displacement: " + std::to_string(adj.border_edge.size()) + " border flags for " +
-                        std::to_string(adj.neighbours.size()) + " neighbours");
-  const bool has_border = std::find(adj.border_edge.begin(), adj.border_edge.end(), true) != adj.border_edge.end();
-  auto on_border = [&](std::size_t m) { return has_border && adj.border_edge[m]; };
-  std::vector<double> row_count(n);
-  std::vector<bool> border_vertex(n, false);
-  for (std::size_t k = 0; k < n; ++k) {
-    std::size_t b = 0;
-    for (std::size_t m = adj.offsets[k]; m < adj.offsets[k + 1]; ++m) b += on_border(m);
-    border_vertex[k] = b > 0;
-    row_count[k] = b > 0 ? static_cast<double>(b) : degree(k);
-  }
+  const Laplacian_rows rows(adj);
+  auto degree = [&](std::size_t i) { return rows.degree(i); };
+  auto on_border = [&](std::size_t m) { return rows.on_border(m); };
+  auto weight = [&](std::size_t k, std::size_t m) { return rows.weight(k, m); };
+  const std::vector<double>& row_count = rows.mass;
+  const std::vector<double>& diagonal = rows.diagonal;
+  const std::vector<bool>& border_vertex = rows.border_vertex;
   std::vector<double> value(n, 0.0);
   std::vector<bool> seen(n, false);
   std::vector<std::size_t> touched, column;
+  std::vector<std::pair<std::size_t, double>> column_weight;
+  // The membrane energy's diagonal: the sum of all of i's weights (no border rule there).
+  auto diagonal_all = [&](std::size_t i) {
+    double sum = 0;
+    for (std::size_t m = adj.offsets[i]; m < adj.offsets[i + 1]; ++m) sum += adj.weight[m];
+    return sum;
+  };
   auto add = [&](std::size_t j, double v) {
     if (!seen[j]) seen[j] = true, touched.push_back(j), value[j] = v;
     else value[j] += v;
@@ -97,20 +137,29 @@ Sparse energy_matrix(const Vertex_adjacency& adj, int order, double scale, const
     // its neighbours' (for order 2, but a border vertex's across an inner edge).
     column.clear();
     if (degree(i) > 0) column.push_back(i);
+    // With the weight of edge ki, read from i's side (the same from k's), but 1 in a border row.
+    column_weight.clear();
     for (std::size_t m = adj.offsets[i]; m < adj.offsets[i + 1]; ++m)
-      if (order == 1 || !border_vertex[adj.neighbours[m]] || on_border(m)) column.push_back(adj.neighbours[m]);
+      if (order == 1 || !border_vertex[adj.neighbours[m]] || on_border(m)) {
+        column.push_back(adj.neighbours[m]);
+        const double w = adj.weight.empty() ? 1.0 : adj.weight[m];
+        column_weight.emplace_back(adj.neighbours[m], order == 2 && border_vertex[adj.neighbours[m]] ? 1.0 : w);
+      }
     std::sort(column.begin(), column.end());
+    std::sort(column_weight.begin(), column_weight.end());
     for (std::size_t k : column) {
+      const double w_ki =
+          k == i ? 0.0 : std::lower_bound(column_weight.begin(), column_weight.end(), std::pair(k, -HUGE_VAL))->second;
       if (order == 1) {
-        add(k, k == i ? degree(i) : -1.0);
+        add(k, k == i ? (adj.weight.empty() ? degree(i) : diagonal_all(i)) : -w_ki);
         continue;
       }
       // Row k of M⁻¹ K, times K_ki.
-      const double K_ki = k == i ? row_count[i] : -1.0;
+      const double K_ki = k == i ? diagonal[i] : -w_ki;
       const double d_k = 1.0 / row_count[k];
-      add(k, (row_count[k] * d_k) * K_ki);
+      add(k, (diagonal[k] * d_k) * K_ki);
       for (std::size_t m = adj.offsets[k]; m < adj.offsets[k + 1]; ++m)
-        if (!border_vertex[k] || on_border(m)) add(adj.neighbours[m], (-1.0 * d_k) * K_ki);
+        if (!border_vertex[k] || on_border(m)) add(adj.neighbours[m], (-weight(k, m) * d_k) * K_ki);
     }
     if (scale != 1)
       for (std::size_t j : touched) value[j] *= scale;
@@ -159,11 +208,15 @@ std::vector<bool> reaches(const Vertex_adjacency& adj, const std::vector<bool>& 
 
 std::vector<Vector_3> interpolate_displacements(const Vertex_adjacency& adj, const std::vector<bool>& constrained,
                                                 const std::vector<Vector_3>& given, int order,
-                                                Displacement_report* report) {
+                                                Displacement_report* report,
+                                                const std::vector<Vector_3>* target_laplacian) {
   internal::Fp_trap_scope traps;
   const std::size_t n = adj.size();
   check_sizes(n, constrained, given);
   if (order != 1 && order != 2) throw Invalid_input("displacement: order must be 1 or 2, not " + std::to_string(order));
+  if (target_laplacian && (order != 2 || target_laplacian->size() != n))
+    throw Invalid_input("displacement: a target Laplacian needs order 2 and one vector per vertex (" +
+                        std::to_string(target_laplacian->size()) + " for " + std::to_string(n) + ")");
   for (std::size_t i = 0; i < n; ++i)
     if (constrained[i] && !(std::isfinite(given[i].x()) && std::isfinite(given[i].y()) && std::isfinite(given[i].z())))
       throw Invalid_input("displacement: the displacement of vertex " + std::to_string(i) + " is not finite");
@@ -216,6 +269,24 @@ std::vector<Vector_3> interpolate_displacements(const Vertex_adjacency& adj, con
     }
   }
   A.finalize();
+  if (target_laplacian) {
+    // The energy (K d − t)ᵀ M⁻¹ (K d − t) adds Kᵀ M⁻¹ t to the right-hand side.
+    const Laplacian_rows rows(adj);
+    std::vector<Vector_3> b(n, Vector_3(0, 0, 0));
+    for (std::size_t k = 0; k < n; ++k) {
+      if (rows.degree(k) == 0) continue;
+      const Vector_3 y = (*target_laplacian)[k] / rows.mass[k];
+      b[k] = b[k] + rows.diagonal[k] * y;
+      for (std::size_t m = adj.offsets[k]; m < adj.offsets[k + 1]; ++m)
+        if (rows.in_row(k, m)) b[adj.neighbours[m]] = b[adj.neighbours[m]] - rows.weight(k, m) * y;
+    }
+    for (std::size_t i = 0; i < n; ++i)
+      if (free_index[i] >= 0) {
+        if (!(std::isfinite(b[i].x()) && std::isfinite(b[i].y()) && std::isfinite(b[i].z())))
+          throw Invalid_input("displacement: the target Laplacian near vertex " + std::to_string(i) + " is not finite");
+        rhs(free_index[i], 0) += b[i].x(), rhs(free_index[i], 1) += b[i].y(), rhs(free_index[i], 2) += b[i].z();
+      }
+  }
   // Symmetric positive definite: every part of the mesh has a held vertex.
   const Eigen::MatrixXd x = solve_definite(A, rhs, "system");
   r.nonzeros = static_cast<std::size_t>(A.nonZeros());
@@ -223,6 +294,125 @@ std::vector<Vector_3> interpolate_displacements(const Vertex_adjacency& adj, con
     if (free_index[i] >= 0) d[i] = Vector_3(x(free_index[i], 0), x(free_index[i], 1), x(free_index[i], 2));
   if (report) *report = r;
   return d;
+}
+
+void set_cotangent_weights(Vertex_adjacency& adj, const std::vector<Point_3>& points,
+                           const std::vector<std::array<std::size_t, 3>>& triangles) {
+  internal::Fp_trap_scope traps;
+  const std::size_t n = adj.size();
+  if (points.size() != n)
+    throw Invalid_input("displacement: " + std::to_string(points.size()) + " points for " + std::to_string(n) + " vertices");
+  // The position of neighbour j in i's row.
+  auto position = [&](std::size_t t, std::size_t i, std::size_t j) {
+    for (std::size_t m = adj.offsets[i]; m < adj.offsets[i + 1]; ++m)
+      if (adj.neighbours[m] == j) return m;
+    throw Invalid_input("displacement: triangle " + std::to_string(t) + " has the edge " + std::to_string(i) + "-" +
+                        std::to_string(j) + ", which is not in the adjacency");
+  };
+  constexpr double cot_bound = 5.6712818196177099;  // cot(10°)
+  constexpr double sine_floor = 0.017452406437283512;  // sin(1°): no division by a zero area
+  constexpr double least_weight = 0.05;
+  const double half_sqrt3 = std::sqrt(3.0) / 2;  // (cot 60° + cot 60°) · √3/2 = 1
+  std::vector<double> cot_sum(adj.neighbours.size(), 0.0), area(n, 0.0);
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    const auto& c = triangles[t];
+    for (std::size_t i : c)
+      if (i >= n) throw Invalid_input("displacement: triangle " + std::to_string(t) + " has corner " + std::to_string(i) +
+                                      " of " + std::to_string(n) + " vertices");
+    const Vector_3 normal = CGAL::cross_product(points[c[1]] - points[c[0]], points[c[2]] - points[c[0]]);
+    const double doubled_area = std::sqrt(normal.squared_length());
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::size_t o = c[k], i = c[(k + 1) % 3], j = c[(k + 2) % 3];
+      area[o] += doubled_area / 6;
+      // The angle at o, opposite edge ij: cos / sin, bounded by cot(10°) in magnitude.
+      const Vector_3 u = points[i] - points[o], v = points[j] - points[o];
+      const double uv = std::sqrt(u.squared_length() * v.squared_length());
+      const double cot = uv > 0 ? std::clamp((u * v) / std::max(doubled_area, sine_floor * uv), -cot_bound, cot_bound) : 0;
+      cot_sum[position(t, i, j)] += cot;
+      cot_sum[position(t, j, i)] += cot;
+    }
+  }
+  adj.weight.resize(adj.neighbours.size());
+  for (std::size_t m = 0; m < cot_sum.size(); ++m) adj.weight[m] = std::max(half_sqrt3 * cot_sum[m], least_weight);
+  const double mean_area = n > 0 ? std::accumulate(area.begin(), area.end(), 0.0) / static_cast<double>(n) : 0;
+  adj.mass.resize(n);
+  for (std::size_t i = 0; i < n; ++i)
+    adj.mass[i] = mean_area > 0 ? 6 * std::max(area[i], 1e-3 * mean_area) / mean_area : 6;
+}
+
+namespace {
+
+// Each vertex's area (a third of its faces') and unit normal (its faces' normals weighted by
+// area; zero when they cancel).
+void areas_and_normals(const std::vector<Point_3>& points, const std::vector<std::array<std::size_t, 3>>& triangles,
+                       std::vector<double>& area, std::vector<Vector_3>& normal) {
+  area.assign(points.size(), 0.0);
+  normal.assign(points.size(), Vector_3(0, 0, 0));
+  for (const auto& c : triangles) {
+    const Vector_3 nf = CGAL::cross_product(points[c[1]] - points[c[0]], points[c[2]] - points[c[0]]);
+    const double a = std::sqrt(nf.squared_length()) / 6;
+    for (std::size_t i : c) area[i] += a, normal[i] = normal[i] + nf;
+  }
+  for (Vector_3& v : normal) {
+    const double l = std::sqrt(v.squared_length());
+    v = l > 0 ? v / l : Vector_3(0, 0, 0);
+  }
+}
+
+}  // namespace
+
+std::vector<Vector_3> laplacian_of(const Vertex_adjacency& adj, const std::vector<Point_3>& points) {
+  const std::size_t n = adj.size();
+  if (points.size() != n)
+    throw Invalid_input("displacement: " + std::to_string(points.size()) + " points for " + std::to_string(n) + " vertices");
+  const Laplacian_rows rows(adj);
+  std::vector<Vector_3> out(n, Vector_3(0, 0, 0));
+  for (std::size_t k = 0; k < n; ++k)
+    for (std::size_t m = adj.offsets[k]; m < adj.offsets[k + 1]; ++m)
+      if (rows.in_row(k, m)) out[k] = out[k] + rows.weight(k, m) * (points[k] - points[adj.neighbours[m]]);
+  return out;
+}
+
+std::vector<double> normal_bending(const std::vector<Point_3>& points, const std::vector<std::array<std::size_t, 3>>& triangles) {
+  internal::Fp_trap_scope traps;
+  const std::size_t n = points.size();
+  std::vector<std::vector<std::size_t>> around(n);
+  for (std::size_t t = 0; t < triangles.size(); ++t)
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::size_t i = triangles[t][k], j = triangles[t][(k + 1) % 3];
+      if (i >= n || j >= n)
+        throw Invalid_input("displacement: triangle " + std::to_string(t) + " has a corner out of " + std::to_string(n) + " vertices");
+      around[i].push_back(j), around[j].push_back(i);
+    }
+  Vertex_adjacency adj;
+  for (auto& a : around) {
+    std::sort(a.begin(), a.end());
+    a.erase(std::unique(a.begin(), a.end()), a.end());
+    adj.neighbours.insert(adj.neighbours.end(), a.begin(), a.end());
+    adj.offsets.push_back(adj.neighbours.size());
+  }
+  set_cotangent_weights(adj, points, triangles);
+  const std::vector<Vector_3> lap = laplacian_of(adj, points);
+  std::vector<double> area;
+  std::vector<Vector_3> normal;
+  areas_and_normals(points, triangles, area, normal);
+  std::vector<double> bending(n, 0.0);
+  for (std::size_t i = 0; i < n; ++i)
+    if (area[i] > 0) bending[i] = (lap[i] * normal[i]) / area[i];
+  return bending;
+}
+
+std::vector<Vector_3> bent_laplacian(const std::vector<double>& bending, const std::vector<Point_3>& points,
+                                     const std::vector<std::array<std::size_t, 3>>& triangles) {
+  if (bending.size() != points.size())
+    throw Invalid_input("displacement: " + std::to_string(bending.size()) + " bending values for " +
+                        std::to_string(points.size()) + " points");
+  std::vector<double> area;
+  std::vector<Vector_3> normal;
+  areas_and_normals(points, triangles, area, normal);
+  std::vector<Vector_3> out(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) out[i] = (bending[i] * area[i]) * normal[i];
+  return out;
 }
 
 std::vector<bool> vertices_within_reach(const Vertex_adjacency& adj, const std::vector<bool>& constrained,

@@ -350,3 +350,161 @@ TEST_CASE("displacement: a harmonic field given on an open grid's border comes b
 }
 
 }  // namespace meshfit_displacement_test
+
+namespace meshfit_displacement_test {
+
+using meshfit::Point_3;
+using Triangles = std::vector<std::array<std::size_t, 3>>;
+
+namespace {
+
+// A triangulated patch: (nx + 1) × (ny + 1) points, each cell cut along one diagonal, with the
+// adjacency its triangles give (neighbours in ascending order).
+struct Patch {
+  std::vector<Point_3> points;
+  Triangles triangles;
+  Vertex_adjacency adjacency;
+};
+
+Vertex_adjacency adjacency_of(std::size_t n, const Triangles& triangles) {
+  std::vector<std::vector<std::size_t>> around(n);
+  for (const auto& t : triangles)
+    for (std::size_t k = 0; k < 3; ++k) around[t[k]].push_back(t[(k + 1) % 3]), around[t[(k + 1) % 3]].push_back(t[k]);
+  Vertex_adjacency a;
+  for (auto& v : around) {
+    std::sort(v.begin(), v.end());
+    v.erase(std::unique(v.begin(), v.end()), v.end());
+    a.neighbours.insert(a.neighbours.end(), v.begin(), v.end());
+    a.offsets.push_back(a.neighbours.size());
+  }
+  return a;
+}
+
+// Points at f(i, j) for 0 ≤ i ≤ nx, 0 ≤ j ≤ ny.
+template <typename F>
+Patch patch(std::size_t nx, std::size_t ny, F f) {
+  Patch p;
+  for (std::size_t j = 0; j <= ny; ++j)
+    for (std::size_t i = 0; i <= nx; ++i) p.points.push_back(f(double(i), double(j)));
+  auto at = [&](std::size_t i, std::size_t j) { return j * (nx + 1) + i; };
+  for (std::size_t j = 0; j < ny; ++j)
+    for (std::size_t i = 0; i < nx; ++i) {
+      p.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      p.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+  p.adjacency = adjacency_of(p.points.size(), p.triangles);
+  return p;
+}
+
+// The weight of edge i-j in a's rows.
+double weight_of(const Vertex_adjacency& a, std::size_t i, std::size_t j) {
+  for (std::size_t m = a.offsets[i]; m < a.offsets[i + 1]; ++m)
+    if (a.neighbours[m] == j) return a.weight[m];
+  return std::nan("");
+}
+
+}  // namespace
+
+TEST_CASE("displacement: cotangent weights are 1 on equilateral triangles and follow the angles elsewhere",
+          "[displacement]") {
+  // Equilateral lattice: row j shifted by −j/2, height √3/2 (the cells' diagonals of length 1). Every inner edge sees two 60° angles:
+  // (√3/2)(cot 60° + cot 60°) = 1, and an inner vertex's six faces have the mean area: mass 6
+  // (the vertices compared are two rings in, away from the smaller border areas that lower the mean).
+  const double h = std::sqrt(3.0) / 2;
+  Patch lattice = patch(10, 10, [&](double i, double j) { return Point_3(i - 0.5 * j, h * j, 0); });
+  meshfit::set_cotangent_weights(lattice.adjacency, lattice.points, lattice.triangles);
+  const std::size_t inner = 5 * 11 + 5;
+  for (std::size_t m = lattice.adjacency.offsets[inner]; m < lattice.adjacency.offsets[inner + 1]; ++m)
+    CHECK(lattice.adjacency.weight[m] == Approx(1).epsilon(1e-12));
+  CHECK(lattice.adjacency.offsets[inner + 1] - lattice.adjacency.offsets[inner] == 6);
+  // 6 A_i / Ā with A_i = 2 (√3/4) and Ā the mean over all vertices, counted here by hand.
+  double total = 0;
+  for (const auto& t : lattice.triangles) (void)t, total += std::sqrt(3.0) / 4;
+  CHECK(lattice.adjacency.mass[inner] == Approx(6 * (std::sqrt(3.0) / 2) / (total / 121)).epsilon(1e-12));
+
+  // Right isosceles cells cut along a diagonal: an axis edge inside sees two 45° angles,
+  // (√3/2)(1 + 1) = √3; the diagonal sees two right angles, cot 90° = 0, raised to the floor 0.05.
+  // The same weights for the patch turned, moved and scaled by 1e4.
+  Patch square = patch(6, 6, [](double i, double j) { return Point_3(i, j, 0); });
+  const double c = std::cos(0.7), s = std::sin(0.7);
+  Patch moved = patch(6, 6, [&](double i, double j) {
+    return Point_3(1e6 + 1e4 * (c * i - s * j), -3e5 + 1e4 * (s * i + c * j), 2e5);
+  });
+  meshfit::set_cotangent_weights(square.adjacency, square.points, square.triangles);
+  meshfit::set_cotangent_weights(moved.adjacency, moved.points, moved.triangles);
+  const std::size_t v = 3 * 7 + 3;
+  CHECK(weight_of(square.adjacency, v, v + 1) == Approx(std::sqrt(3.0)).epsilon(1e-12));
+  CHECK(weight_of(square.adjacency, v, v + 7) == Approx(std::sqrt(3.0)).epsilon(1e-12));
+  CHECK(weight_of(square.adjacency, v, v + 8) == Approx(0.05).epsilon(1e-12));
+  for (std::size_t m = 0; m < square.adjacency.weight.size(); ++m)
+    CHECK(moved.adjacency.weight[m] == Approx(square.adjacency.weight[m]).epsilon(1e-6));
+  for (std::size_t i = 0; i < square.points.size(); ++i)
+    CHECK(moved.adjacency.mass[i] == Approx(square.adjacency.mass[i]).epsilon(1e-6));
+
+  // A triangle whose edge is not in the adjacency, and points of another count, are refused.
+  Vertex_adjacency path;
+  path.neighbours = {1, 0, 2, 1};
+  path.offsets = {0, 1, 3, 4};
+  CHECK_THROWS_WITH(meshfit::set_cotangent_weights(path, {Point_3(0, 0, 0), Point_3(1, 0, 0), Point_3(0, 1, 0)}, {{0, 1, 2}}), Catch::Contains("triangle 0 has the edge"));
+  CHECK_THROWS_WITH(meshfit::set_cotangent_weights(path, {Point_3(0, 0, 0), Point_3(1, 0, 0), Point_3(0, 1, 0)}, {{0, 1, 2}}), Catch::Contains("which is not in the adjacency"));
+  CHECK_THROWS_WITH(meshfit::set_cotangent_weights(path, {Point_3(0, 0, 0)}, {}), Catch::Contains("1 points for 3 vertices"));
+}
+
+TEST_CASE("displacement: normal_bending is 0 on a plane, about 2√3/R on a sphere, and scales like a curvature",
+          "[displacement]") {
+  Patch plane = patch(8, 8, [](double i, double j) { return Point_3(0.3 * i + 0.1 * j, 0.2 * j, 0.05 * i - 0.02 * j); });
+  for (double b : meshfit::normal_bending(plane.points, plane.triangles)) CHECK(std::abs(b) < 1e-9);
+  // A latitude-longitude band of a sphere of radius R, between 50° and 130° from the pole, normals
+  // inwards (the triangles' order: the sign is not compared); the band's inner vertices (one ring
+  // from its edges). Its cells are nearly rectangles, whose diagonals' weights (about 0) are
+  // raised to the floor 0.05: that adds a few per cent here, within the 6 % allowed.
+  for (double R : {1.0, 1e-3, 250.0}) {
+    const std::size_t nu = 96, nv = 24;
+    const double pi = std::acos(-1.0);
+    Patch band = patch(nu, nv, [&](double i, double j) {
+      const double phi = 2 * pi * i / double(nu), theta = (50 + 80 * j / double(nv)) * pi / 180;
+      return Point_3(R * std::sin(theta) * std::cos(phi), R * std::sin(theta) * std::sin(phi), R * std::cos(theta));
+    });
+    const std::vector<double> b = meshfit::normal_bending(band.points, band.triangles);
+    for (std::size_t j = 1; j < nv; ++j)
+      for (std::size_t i = 1; i < nu; ++i) CHECK(std::abs(b[j * (nu + 1) + i]) * R == Approx(2 * std::sqrt(3.0)).epsilon(0.06));
+  }
+  CHECK_THROWS_WITH(meshfit::normal_bending({Point_3(0, 0, 0)}, {{0, 1, 2}}), Catch::Contains("triangle 0 has a corner out of 1 vertices"));
+  CHECK_THROWS_WITH(meshfit::bent_laplacian({1.0}, plane.points, plane.triangles), Catch::Contains("1 bending values for 81 points"));
+}
+
+TEST_CASE("displacement: with a target Laplacian the thin-plate field reproduces any field whose Laplacian it is",
+          "[displacement]") {
+  // d* is arbitrary; t = K d* (written here from the weights, not by the library); the held
+  // vertices get d*. The energy (K d − t)ᵀ M⁻¹ (K d − t) is 0 at d*, its only minimiser.
+  Patch p = patch(9, 7, [](double i, double j) { return Point_3(i + 0.3 * std::sin(j), j + 0.2 * std::cos(i), 0.1 * i * j); });
+  meshfit::set_cotangent_weights(p.adjacency, p.points, p.triangles);
+  const std::size_t n = p.points.size();
+  std::vector<Vector_3> wanted(n), target(n, Vector_3(0, 0, 0));
+  for (std::size_t i = 0; i < n; ++i)
+    wanted[i] = Vector_3(std::sin(0.7 * double(i)), std::cos(1.3 * double(i)), 0.01 * double(i * i % 17));
+  for (std::size_t k = 0; k < n; ++k)
+    for (std::size_t m = p.adjacency.offsets[k]; m < p.adjacency.offsets[k + 1]; ++m)
+      target[k] = target[k] + p.adjacency.weight[m] * (wanted[k] - wanted[p.adjacency.neighbours[m]]);
+  std::vector<bool> held(n, false);
+  std::vector<Vector_3> given(n, Vector_3(0, 0, 0));
+  for (std::size_t k : {0u, 9u, 40u, 79u}) held[k] = true, given[k] = wanted[k];
+  const auto d = meshfit::interpolate_displacements(p.adjacency, held, given, 2, nullptr, &target);
+  for (std::size_t i = 0; i < n; ++i) CHECK(std::sqrt((d[i] - wanted[i]).squared_length()) < 1e-8);
+  // Without the target the field is the smooth one, not d*.
+  const auto plain = meshfit::interpolate_displacements(p.adjacency, held, given, 2);
+  double far = 0;
+  for (std::size_t i = 0; i < n; ++i) far = std::max(far, std::sqrt((plain[i] - wanted[i]).squared_length()));
+  CHECK(far > 0.5);
+  // laplacian_of gives the same K x.
+  std::vector<Point_3> at(n);
+  for (std::size_t i = 0; i < n; ++i) at[i] = Point_3(0, 0, 0) + wanted[i];
+  const auto lap = meshfit::laplacian_of(p.adjacency, at);
+  for (std::size_t i = 0; i < n; ++i) CHECK(std::sqrt((lap[i] - target[i]).squared_length()) < 1e-12);
+  // A target for the membrane energy, or of the wrong size, is refused.
+  CHECK_THROWS_WITH(meshfit::interpolate_displacements(p.adjacency, held, given, 1, nullptr, &target), Catch::Contains("a target Laplacian needs order 2"));
+  std::vector<Vector_3> short_target(3);
+  CHECK_THROWS_WITH(meshfit::interpolate_displacements(p.adjacency, held, given, 2, nullptr, &short_target), Catch::Contains("(3 for 80)"));
+}
+
+}  // namespace meshfit_displacement_test

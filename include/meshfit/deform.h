@@ -57,6 +57,25 @@ enum class Fine_level {
 /// "surface" or "thesis" (the command line's spelling).
 inline const char* to_string(Fine_level level) { return level == Fine_level::surface ? "surface" : "thesis"; }
 
+/// Where Fine_level::surface takes the shape of the surface between the curves from, when its
+/// thin-plate field moves the embedded curves into place (deform_fine_on_surface, step 3).
+enum class Fine_shape {
+  /// The shape the approach (step 0) left there, whose thin-plate fields ran on the template's
+  /// parametrisation (uniform Laplacian): the displacement is smooth. Default.
+  approach,
+  /// The template's bending (normal_bending; of the mesh as given for deform_fine_on_surface),
+  /// in the metric of the surface with the curves embedded: Laplacian editing on cotangent
+  /// weights (displacement.h). A plane template stays a plane between the curves' bends.
+  /// Measured on bench/battery (Hausdorff distance to the truth, % of the diagonal, approach ->
+  /// template): ico10242-peanut-latlong 1.02 -> 0.69, open-mesh_with_border-wave-boundary 1.38 ->
+  /// 1.00, ico2562-bumpy-great 3.80 -> 3.16; but curves denser than the template (its vertices
+  /// midpoint-subdivided) come out worse, ico2562-superellipsoid-latlong-dense10 0.88 -> 2.02,
+  /// and open templates without their border in the network 11 -> 18: not the default yet.
+  template_bending
+};
+/// "approach" or "template" (the command line's spelling).
+inline const char* to_string(Fine_shape s) { return s == Fine_shape::approach ? "approach" : "template"; }
+
 /// How Fine_level::surface brought the coarse surface towards the curves before embedding them
 /// (deform_fine_on_surface, step 0).
 enum class Approach {
@@ -95,6 +114,7 @@ struct Deformation_report {
   std::vector<std::size_t> dropped_network_vertices;  ///< Curve_density::drop: not represented
   Rbf_fit_report fine_fit;  ///< Fine_level::thesis
   Fine_level fine_level = Fine_level::surface;  ///< the fine level that ran (or would have)
+  Fine_shape fine_shape = Fine_shape::approach;  ///< Fine_level::surface: the shape step 3 gave between the curves
   // Fine_level::surface
   double largest_projection_distance = 0;   ///< from a network vertex to the coarse surface
   /// Edges between two curves' vertices split so that every face has a corner free to move.
@@ -182,6 +202,7 @@ struct Deform_options {
   Rbf_kernel rbf_kernel = Rbf_kernel::linear;            ///< named parameter `rbf_kernel`
   Curve_density curve_density = Curve_density::refine;   ///< `curve_density`
   Fine_level fine_level = Fine_level::surface;           ///< `fine_level`
+  Fine_shape fine_shape = Fine_shape::approach;          ///< `fine_shape`
   bool coarse_only = false;                              ///< `coarse_only` (deform_template)
   std::size_t flip_prevention_rounds = 10;               ///< `flip_prevention_rounds`
   std::size_t memory_limit = 0;                          ///< `memory_limit`; 0: default_memory_limit()
@@ -199,6 +220,7 @@ Deform_options deform_options(const NamedParameters& np) {
   o.rbf_kernel = choose_parameter(get_parameter(np, internal_np::rbf_kernel), o.rbf_kernel);
   o.curve_density = choose_parameter(get_parameter(np, internal_np::curve_density), o.curve_density);
   o.fine_level = choose_parameter(get_parameter(np, internal_np::fine_level), o.fine_level);
+  o.fine_shape = choose_parameter(get_parameter(np, internal_np::fine_shape), o.fine_shape);
   o.coarse_only = choose_parameter(get_parameter(np, internal_np::coarse_only), o.coarse_only);
   const auto rounds = choose_parameter(get_parameter(np, internal_np::flip_prevention_rounds), o.flip_prevention_rounds);
   static_assert(std::is_integral_v<std::decay_t<decltype(rounds)>>, "meshfit: flip_prevention_rounds must be an integer");
@@ -215,6 +237,7 @@ inline auto deform_parameters(const Deform_options& o) {
   return parameters::rbf_kernel(o.rbf_kernel)
       .curve_density(o.curve_density)
       .fine_level(o.fine_level)
+      .fine_shape(o.fine_shape)
       .coarse_only(o.coarse_only)
       .flip_prevention_rounds(o.flip_prevention_rounds)
       .memory_limit(o.memory_limit)
@@ -583,6 +606,11 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
 ///     \cgalParamDescription{the method of the fine level}
 ///     \cgalParamType{meshfit::Fine_level}
 ///     \cgalParamDefault{\default_fine_level (deform_fine_on_surface; `Fine_level::thesis`: deform_fine)}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{fine_shape}
+///     \cgalParamDescription{where `Fine_level::surface` takes the shape between the curves from (deform_template, deform_fine_on_surface)}
+///     \cgalParamType{meshfit::Fine_shape}
+///     \cgalParamDefault{\default_fine_shape}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{rbf_kernel}
 ///     \cgalParamDescription{the basis function φ of the interpolants (the coarse one, and the fine one of `Fine_level::thesis`) (rbf.h)}

@@ -229,6 +229,11 @@ struct Fit_report {
 ///     \cgalParamType{meshfit::Fine_level}
 ///     \cgalParamDefault{\default_fine_level}
 ///   \cgalParamNEnd
+///   \cgalParamNBegin{fine_shape}
+///     \cgalParamDescription{where `Fine_level::surface` takes the shape between the curves from}
+///     \cgalParamType{meshfit::Fine_shape}
+///     \cgalParamDefault{\default_fine_shape}
+///   \cgalParamNEnd
 ///   \cgalParamNBegin{rbf_kernel}
 ///     \cgalParamDescription{the basis function φ of stage 1's interpolants (rbf.h)}
 ///     \cgalParamType{meshfit::Rbf_kernel}

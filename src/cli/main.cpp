@@ -102,6 +102,9 @@ const Option_spec option_specs[] = {
                              "network vertices that lose their nearest template vertex are dropped and reported)"},
     {"--fine-level", "L", "surface (embed the curves in the coarse surface, then move them into place with a "
                           "thin-plate displacement) or thesis (nearest-vertex RBF, subdivision)"},
+    {"--fine-shape", "S", "the surface fine level's shape between the curves: approach (kept from the coarse "
+                          "surface brought to the curves) or template (the template's bending, in the surface's "
+                          "metric: Laplacian editing)"},
     {"--max-rounds", "N", "flip prevention (thesis) or untangling (surface) rounds at most"},
     {"--max-memory", "SIZE", "refuse (exit 3, with the estimate) work whose largest allocation, a dense RBF "
                              "system or reading an input (10 times its size), would exceed SIZE (2G, 512M; "
@@ -126,7 +129,7 @@ struct Command_spec {
 };
 
 const std::vector<Command_spec>& command_specs() {
-  static const std::vector<const char*> deform_opts{"--kernel", "--curve-density", "--fine-level", "--max-rounds",
+  static const std::vector<const char*> deform_opts{"--kernel", "--curve-density", "--fine-level", "--fine-shape", "--max-rounds",
                                                     "--max-memory"};
   static const std::vector<const char*> smooth_opts{"--iterations", "--mc-iterations", "--laplacian-iterations",
                                                     "--step", "--smooth-tolerance"};
@@ -170,6 +173,7 @@ std::string default_of(const std::string& name) {
   if (name == "--kernel") return meshfit::to_string(deform.rbf_kernel);
   if (name == "--curve-density") return deform.curve_density == meshfit::Curve_density::drop ? "drop" : "refine";
   if (name == "--fine-level") return meshfit::to_string(deform.fine_level);
+  if (name == "--fine-shape") return meshfit::to_string(deform.fine_shape);
   if (name == "--max-rounds") return std::to_string(deform.flip_prevention_rounds);
   if (name == "--iterations") return std::to_string(meshfit::internal::default_smoothing_iterations);
   if (name == "--step") return meshfit::internal::format_number(meshfit::internal::Flow_settings().step);
@@ -777,6 +781,7 @@ Json json_fine_level(const meshfit::Deformation_report& r) {
     j["template_subdivisions"] = r.template_subdivisions;
     j["network_points_added"] = r.network_points_added;
     j["approach"] = meshfit::to_string(r.approach);
+    j["shape"] = meshfit::to_string(r.fine_shape);
     j["approach_constraints"] = r.approach_constraints;
     j["approach_scale"] = number(r.approach_scale);
     j["approach_coarse_nodes"] = r.approach_coarse_nodes;
@@ -824,6 +829,8 @@ meshfit::Deform_options deform_options(const Command_line& cl) {
              o.curve_density);
   set_choice(cl, "--fine-level", "surface", meshfit::Fine_level::surface, "thesis", meshfit::Fine_level::thesis,
              o.fine_level);
+  set_choice(cl, "--fine-shape", "approach", meshfit::Fine_shape::approach, "template", meshfit::Fine_shape::template_bending,
+             o.fine_shape);
   if (cl.values.count("--max-rounds")) {
     const std::string& r = cl.values.at("--max-rounds");
     char* end = nullptr;

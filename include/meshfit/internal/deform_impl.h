@@ -911,10 +911,14 @@ Approach_result approach_curves_icp(TriangleMesh& tm, const VPM& vpm, const Curv
 /// off is given a path through the edges that join two chain vertices, split for it (a fallback:
 /// deform_fine_on_surface_impl asks for it only when every start left such a segment). `tree`:
 /// the face tree of `tm` at its points now, when the caller has one (step 1 builds one otherwise).
+/// `template_bending`: normal_bending of the template, by vertex index (the mesh's first
+/// vertices; those it inserts come after), in the mesh's frame: the shape that step 3 gives the
+/// surface between the curves. Without it, step 3 keeps the shape the mesh has when it starts.
 using Work_face_tree = Face_tree<Work_mesh, boost::property_map<Work_mesh, CGAL::vertex_point_t>::type>;
 Deformation_report fine_on_surface(Work_mesh& tm, const Curve_network& network, const std::vector<Correspondence>& pairs,
                                    const Deform_options& options, bool split_for_paths = false,
-                                   std::optional<Work_face_tree> tree = std::nullopt);
+                                   std::optional<Work_face_tree> tree = std::nullopt,
+                                   const std::vector<double>* template_bending = nullptr);
 
 /// The largest template that deform_template's subdivision makes.
 constexpr std::size_t max_subdivided_faces = 2000000;

@@ -364,9 +364,11 @@ inline Deformation_report fine_on_cut_network(Work_mesh& tm, const Curve_network
                                               const std::vector<Correspondence>& pairs, const Resampled_network& cut,
                                               const std::vector<Correspondence>& cut_pairs,
                                               const Deform_options& options, bool split_for_paths,
-                                              std::optional<Work_face_tree> tree = std::nullopt) {
-  if (cut.added == 0) return fine_on_surface(tm, network, pairs, options, split_for_paths, std::move(tree));
-  Deformation_report r = fine_on_surface(tm, cut.network, cut_pairs, options, split_for_paths, std::move(tree));
+                                              std::optional<Work_face_tree> tree = std::nullopt,
+                                              const std::vector<double>* template_bending = nullptr) {
+  if (cut.added == 0) return fine_on_surface(tm, network, pairs, options, split_for_paths, std::move(tree), template_bending);
+  Deformation_report r =
+      fine_on_surface(tm, cut.network, cut_pairs, options, split_for_paths, std::move(tree), template_bending);
   r.network_points_added = cut.added;
   std::vector<std::size_t> mesh_of(network.number_of_vertices());
   for (std::size_t v = 0; v < mesh_of.size(); ++v) mesh_of[v] = r.mesh_vertex_of_network_vertex[cut.vertex_of[v]];
@@ -421,7 +423,8 @@ struct Mesh_snapshot {
 /// partly changed). For meshes the pipeline owns (a Stage_copy, fit's copy).
 template <typename TriangleMesh>
 Deformation_report deform_fine_on_surface_impl(TriangleMesh& tm, const Curve_network& network,
-                                    const std::vector<Correspondence>& pairs, const Deform_options& options) {
+                                    const std::vector<Correspondence>& pairs, const Deform_options& options,
+                                    const std::vector<double>* template_bending = nullptr) {
   auto vpm = get_property_map(CGAL::vertex_point, tm);
   internal::check_pairs(pairs, num_vertices(tm), num_faces(tm), network);
   const double h = internal::mean_edge_length(tm, vpm);
@@ -448,6 +451,12 @@ Deformation_report deform_fine_on_surface_impl(TriangleMesh& tm, const Curve_net
   internal::build_face_tree(tm, vpm, coarse_tree);
   internal::check_polylines_near(tm, vpm, coarse_tree, network);
   const Mesh_snapshot coarse = Mesh_snapshot::of(tm, vpm);
+  // The shape between the curves that every start's step 3 gives the surface there: the
+  // template's, or the mesh's as given.
+  const bool bend = options.fine_shape == Fine_shape::template_bending;
+  std::vector<double> own_bending;
+  if (bend && !template_bending) own_bending = normal_bending(coarse.points, coarse.triangles);
+  const std::vector<double>* bending = !bend ? nullptr : template_bending ? template_bending : &own_bending;
   std::optional<Deformation_report> best;
   std::optional<Mesh_snapshot> best_mesh;
   std::size_t tried = 0;
@@ -466,7 +475,7 @@ Deformation_report deform_fine_on_surface_impl(TriangleMesh& tm, const Curve_net
       if (start < 2 && approach.scale == 0) continue;  // the approach made no motion: the same start as the last
       std::optional<Deformation_report> r;
       try {
-        r = fine_on_cut_network(tm, network, pairs, cut, cut_pairs, options, round == 1, std::move(tree_after));
+        r = fine_on_cut_network(tm, network, pairs, cut, cut_pairs, options, round == 1, std::move(tree_after), bending);
       } catch (const Cancelled&) {
         throw;  // the caller's cancel, not a failure of this start
       } catch (const Algorithm_failure&) {
@@ -494,6 +503,23 @@ Deformation_report deform_fine_on_surface_impl(TriangleMesh& tm, const Curve_net
   return *best;
 }
 
+/// The template's bending (normal_bending) in the frame of the coarse surface: a curvature, it is
+/// scaled by the square root of the ratio of the two surfaces' areas (the coarse level scales the
+/// template to the curves' size).
+inline std::vector<double> template_bending_after_coarse(const Mesh_snapshot& shape, const Mesh_snapshot& coarse) {
+  auto area = [](const Mesh_snapshot& m) {
+    double a = 0;
+    for (const auto& t : m.triangles)
+      a += std::sqrt(CGAL::cross_product(m.points[t[1]] - m.points[t[0]], m.points[t[2]] - m.points[t[0]]).squared_length());
+    return a;
+  };
+  std::vector<double> bending = normal_bending(shape.points, shape.triangles);
+  const double a = area(shape), c = area(coarse);
+  const double scale = a > 0 && c > 0 && std::isfinite(a / c) ? std::sqrt(a / c) : 1;
+  for (double& b : bending) b *= scale;
+  return bending;
+}
+
 /// deform_template on the inputs as they are.
 template <typename TriangleMesh>
 Deformation_report deform_template_unscaled(TriangleMesh& tm, const Curve_network& network,
@@ -506,6 +532,12 @@ Deformation_report deform_template_unscaled(TriangleMesh& tm, const Curve_networ
   // (before the coarse level, so that the new vertices follow the RBF rather than the chords),
   // at most three times and to at most max_subdivided_faces faces.
   std::size_t subdivisions = 0;
+  // The template's own shape, which the surface fine level gives the surface between the curves:
+  // taken before the subdivision, whose flat faces bend only at their corners and edges (the
+  // vertices it adds, after the template's, take their neighbours' bending: fine_on_surface).
+  // With the subdivided template's: ico2562-superellipsoid-latlong-dense10 2.03 % from the truth.
+  std::optional<Mesh_snapshot> shape;
+  if (level == Fine_level::surface && options.fine_shape == Fine_shape::template_bending && !coarse_only) shape = Mesh_snapshot::of(tm, get_property_map(CGAL::vertex_point, tm));
   const bool surface_refined = level == Fine_level::surface && density == Curve_density::refine && !coarse_only;
   if (surface_refined) {
     // Before the subdivision, whose new vertices would make an out-of-range template index valid.
@@ -521,7 +553,9 @@ Deformation_report deform_template_unscaled(TriangleMesh& tm, const Curve_networ
   coarse.template_subdivisions = subdivisions;
   if (coarse.orientation_reversed || coarse_only) return coarse;
   if (surface_refined) refuse_oversampled_curves(tm, get_property_map(CGAL::vertex_point, tm), network, subdivisions);
-  Deformation_report fine = level == Fine_level::surface ? deform_fine_on_surface_impl(tm, network, pairs, options)
+  std::vector<double> bending;  // empty unless Fine_shape::template_bending
+  if (shape) bending = template_bending_after_coarse(*shape, Mesh_snapshot::of(tm, get_property_map(CGAL::vertex_point, tm)));
+  Deformation_report fine = level == Fine_level::surface ? deform_fine_on_surface_impl(tm, network, pairs, options, shape ? &bending : nullptr)
                                                          : deform_fine_impl(tm, network, pairs, options);
   fine.coarse_fit = coarse.coarse_fit;
   fine.coarse_seconds = coarse.coarse_seconds;
