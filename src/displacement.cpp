@@ -53,17 +53,6 @@ void check_sizes(std::size_t n, const std::vector<bool>& constrained, const std:
                         " constraint flags and " + std::to_string(given.size()) + " displacements");
 }
 
-// The membrane (order 1: K = D − A, the symmetric graph Laplacian) or thin-plate (order 2:
-// Kᵀ M⁻¹ K, the squared uniform Laplacian weighted by the number of neighbours it averages)
-// energy's matrix, times `scale`, plus `extra` when given (a matrix of the same size). In the
-// thin-plate energy a border vertex's row of K is taken along the border (over its border
-// neighbours, M its count of them): the whole one-sided Laplacian there measures the slope
-// across the border, and asking it to vanish held a fit's border flat (open-plane-saddle-boundary
-// ended 1.04 % from the truth, 0.49 % so). Written column by column, each gathered in a scratch
-// column of the mesh's size (an Eigen product K D⁻¹ K took 2.4 s at 655 362 vertices, this
-// 0.2 s), with the operations of Eigen's product in its order (the sum over k ascending of
-// (K_ki / M_k) K_kj, then the scale, then `extra`): the same numbers to the last bit, so that a
-// fit does not change with the way its matrix is written.
 // The rows of K (and M) that the energies share: vertex k's row over its border neighbours when
 // it has any (weight 1, M_k their count: the Laplacian along the border), else over all of them
 // with adj.weight (1 when empty) and M_k = adj.mass[k] (the number of neighbours when empty).
@@ -104,6 +93,18 @@ struct Laplacian_rows {
   double weight(std::size_t k, std::size_t m) const { return adj.weight.empty() || border_vertex[k] ? 1.0 : adj.weight[m]; }
 };
 
+
+// The membrane (order 1: K = D − A, the symmetric graph Laplacian) or thin-plate (order 2:
+// Kᵀ M⁻¹ K, the squared uniform Laplacian weighted by the number of neighbours it averages)
+// energy's matrix, times `scale`, plus `extra` when given (a matrix of the same size). In the
+// thin-plate energy a border vertex's row of K is taken along the border (over its border
+// neighbours, M its count of them): the whole one-sided Laplacian there measures the slope
+// across the border, and asking it to vanish held a fit's border flat (open-plane-saddle-boundary
+// ended 1.04 % from the truth, 0.49 % so). Written column by column, each gathered in a scratch
+// column of the mesh's size (an Eigen product K D⁻¹ K took 2.4 s at 655 362 vertices, this
+// 0.2 s), with the operations of Eigen's product in its order (the sum over k ascending of
+// (K_ki / M_k) K_kj, then the scale, then `extra`): the same numbers to the last bit, so that a
+// fit does not change with the way its matrix is written.
 Sparse energy_matrix(const Vertex_adjacency& adj, int order, double scale, const Sparse* extra = nullptr) {
   const std::size_t n = adj.size();
   const auto N = static_cast<Eigen::Index>(n);

@@ -532,12 +532,14 @@ Deformation_report deform_template_unscaled(TriangleMesh& tm, const Curve_networ
   // (before the coarse level, so that the new vertices follow the RBF rather than the chords),
   // at most three times and to at most max_subdivided_faces faces.
   std::size_t subdivisions = 0;
-  // The template's own shape, which the surface fine level gives the surface between the curves:
-  // taken before the subdivision, whose flat faces bend only at their corners and edges (the
-  // vertices it adds, after the template's, take their neighbours' bending: fine_on_surface).
-  // With the subdivided template's: ico2562-superellipsoid-latlong-dense10 2.03 % from the truth.
+  // Fine_shape::template_bending: the template's own shape, taken before the subdivision, whose
+  // flat faces bend only at their corners and edges (the vertices it adds, after the template's,
+  // take their neighbours' bending: fine_on_surface). That is not what makes the dense rows
+  // worse: ico2562-superellipsoid-latlong-dense10 ends 2.02 % from the truth so, 2.03 % with
+  // the subdivided template's bending.
   std::optional<Mesh_snapshot> shape;
-  if (level == Fine_level::surface && options.fine_shape == Fine_shape::template_bending && !coarse_only) shape = Mesh_snapshot::of(tm, get_property_map(CGAL::vertex_point, tm));
+  if (level == Fine_level::surface && options.fine_shape == Fine_shape::template_bending && !coarse_only)
+    shape = Mesh_snapshot::of(tm, get_property_map(CGAL::vertex_point, tm));
   const bool surface_refined = level == Fine_level::surface && density == Curve_density::refine && !coarse_only;
   if (surface_refined) {
     // Before the subdivision, whose new vertices would make an out-of-range template index valid.
@@ -555,8 +557,9 @@ Deformation_report deform_template_unscaled(TriangleMesh& tm, const Curve_networ
   if (surface_refined) refuse_oversampled_curves(tm, get_property_map(CGAL::vertex_point, tm), network, subdivisions);
   std::vector<double> bending;  // empty unless Fine_shape::template_bending
   if (shape) bending = template_bending_after_coarse(*shape, Mesh_snapshot::of(tm, get_property_map(CGAL::vertex_point, tm)));
-  Deformation_report fine = level == Fine_level::surface ? deform_fine_on_surface_impl(tm, network, pairs, options, shape ? &bending : nullptr)
-                                                         : deform_fine_impl(tm, network, pairs, options);
+  Deformation_report fine = level == Fine_level::surface
+                                ? deform_fine_on_surface_impl(tm, network, pairs, options, shape ? &bending : nullptr)
+                                : deform_fine_impl(tm, network, pairs, options);
   fine.coarse_fit = coarse.coarse_fit;
   fine.coarse_seconds = coarse.coarse_seconds;
   fine.coarse_flipped_faces = coarse.coarse_flipped_faces;
