@@ -335,7 +335,9 @@ void set_cotangent_weights(Vertex_adjacency& adj, const std::vector<Point_3>& po
   }
   adj.weight.resize(adj.neighbours.size());
   for (std::size_t m = 0; m < cot_sum.size(); ++m) adj.weight[m] = std::max(half_sqrt3 * cot_sum[m], least_weight);
-  const double mean_area = n > 0 ? std::accumulate(area.begin(), area.end(), 0.0) / static_cast<double>(n) : 0;
+  // The mean over the vertices on a face: a vertex of no face (unused) changes no other mass.
+  const std::size_t used = static_cast<std::size_t>(std::count_if(area.begin(), area.end(), [](double a) { return a > 0; }));
+  const double mean_area = used > 0 ? std::accumulate(area.begin(), area.end(), 0.0) / static_cast<double>(used) : 0;
   adj.mass.resize(n);
   for (std::size_t i = 0; i < n; ++i)
     adj.mass[i] = mean_area > 0 ? 6 * std::max(area[i], 1e-3 * mean_area) / mean_area : 6;

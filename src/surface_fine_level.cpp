@@ -224,8 +224,8 @@ class Surface_fine_level {
   void flip_folded_diagonals();
   // Slivers: a face with an angle under 5 degrees (a curve vertex placed next to an edge) is
   // mended by flipping the edge that gives the pair of faces beside it a larger smallest angle, as
-  // long as the flip is good (flip_if_good) — smoothing moves no held vertex and cannot. At most
-  // one flip per edge and pass, 3 passes.
+  // long as the flip is good (flip_if_good) and leaves no face with three held corners —
+  // smoothing moves no held vertex and cannot. At most one flip per edge and pass, 3 passes.
   void flip_slivers();
   // A free corner of a face still turned over may have no place left that untangling finds: on
   // real-pig, a vertex of degree 4 between two chains that meet at a corner, all four neighbours
@@ -1159,6 +1159,12 @@ void Surface_fine_level::flip_slivers() {
       if (!get(thin, face(h, tm)) && !get(thin, face(g, tm))) continue;
       const double before_flip = std::min(smallest_angle(h), smallest_angle(g));
       if (!(before_flip < sliver)) continue;
+      // A flip that leaves a face with every corner held (two curves' vertices beside a crossing,
+      // say) is not made: nothing could move that face again (the dense example: 3 such faces
+      // with Fine_shape::template_bending).
+      const std::size_t iu = get(s.index, source(h, tm)), iv = get(s.index, target(h, tm)),
+                        ix = get(s.index, target(next(h, tm), tm)), iy = get(s.index, target(next(g, tm), tm));
+      if (constrained[ix] && constrained[iy] && (constrained[iu] || constrained[iv])) continue;
       if (flip_if_good(h, true)) {
         if (std::min(smallest_angle(h), smallest_angle(opposite(h, tm))) > before_flip) {
           changed = true;

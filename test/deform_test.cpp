@@ -843,6 +843,58 @@ TEST_CASE("deform: on a template far finer than the curves, step 3 solves along 
   CHECK(rs.approach_coarse_nodes == 0);
 }
 
+TEST_CASE("deform: Fine_shape::automatic takes the template's bending unless the curves are denser than its edges",
+          "[deform][surface][fine_shape]") {
+  // A 4 x 4 grid of unit squares, each cut by a diagonal; its mean edge measured here.
+  Mesh grid;
+  std::vector<Mesh::Vertex_index> v;
+  for (int j = 0; j <= 4; ++j)
+    for (int i = 0; i <= 4; ++i) v.push_back(grid.add_vertex(meshfit::Point_3(i, j, 0)));
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 4; ++i) {
+      const auto a = v[j * 5 + i], b = v[j * 5 + i + 1], c = v[(j + 1) * 5 + i + 1], d = v[(j + 1) * 5 + i];
+      grid.add_face(a, b, c);
+      grid.add_face(a, c, d);
+    }
+  double total = 0;
+  for (auto e : grid.edges()) total += std::sqrt(CGAL::squared_distance(grid.point(grid.vertex(e, 0)), grid.point(grid.vertex(e, 1))));
+  const double mean_edge = total / static_cast<double>(grid.number_of_edges());
+  REQUIRE(mean_edge == Approx((40 + 16 * std::sqrt(2.0)) / 56));
+  // A polyline of segments L, L and 10 edges: its median segment is L.
+  auto network = [&](double L, double scale, const meshfit::Vector_3& shift) {
+    const meshfit::Point_3 o(0.5, 0.5, 0.25);
+    return meshfit::Curve_network({{o + shift, o + shift + meshfit::Vector_3(scale * L, 0, 0),
+                                    o + shift + meshfit::Vector_3(scale * 2 * L, 0, 0),
+                                    o + shift + meshfit::Vector_3(scale * (2 * L + 10 * mean_edge), 0, 0)}});
+  };
+  using meshfit::Fine_shape;
+  for (const double scale : {1.0, 1e-4, 1e4}) {
+    const meshfit::Vector_3 shift(1e6, -1e6, 1e6);
+    INFO("scale " << scale);
+    Mesh m = grid;
+    for (auto u : m.vertices()) m.point(u) = CGAL::ORIGIN + shift + scale * (m.point(u) - CGAL::ORIGIN);
+    const auto vpm = get(CGAL::vertex_point, m);
+    auto resolved = [&](double L, std::size_t subdivisions, Fine_shape asked = Fine_shape::automatic) {
+      return meshfit::internal::resolved_fine_shape(asked, m, vpm, network(L, scale, shift), subdivisions);
+    };
+    CHECK(resolved(0.45 * mean_edge, 0) == Fine_shape::approach);
+    CHECK(resolved(0.55 * mean_edge, 0) == Fine_shape::template_bending);
+    // After one midpoint subdivision the template's own edge is twice the mesh's.
+    CHECK(resolved(0.55 * mean_edge, 1) == Fine_shape::approach);
+    CHECK(resolved(1.05 * mean_edge, 1) == Fine_shape::template_bending);
+    // A shape asked for is kept.
+    CHECK(resolved(0.1 * mean_edge, 0, Fine_shape::template_bending) == Fine_shape::template_bending);
+    CHECK(resolved(5 * mean_edge, 0, Fine_shape::approach) == Fine_shape::approach);
+  }
+  // The pipeline reports the shape it chose, never automatic: the example's curves run along
+  // its edges.
+  Example e = load_example();
+  CHECK(meshfit::deform_template(e.tm, e.network, e.pairs).fine_shape == Fine_shape::template_bending);
+  Example f = load_example();
+  CHECK(meshfit::deform_template(f.tm, f.network, f.pairs, meshfit::parameters::fine_shape(Fine_shape::approach)).fine_shape ==
+        Fine_shape::approach);
+}
+
 TEST_CASE("deform: curves sampled far more densely than the template's edges are refused at once, with the figures",
           "[deform][example][surface][dense]") {
   // The example network cut x70 (15 400 network vertices): two subdivisions of the example sphere

@@ -441,6 +441,15 @@ TEST_CASE("displacement: cotangent weights are 1 on equilateral triangles and fo
   for (std::size_t i = 0; i < square.points.size(); ++i)
     CHECK(moved.adjacency.mass[i] == Approx(square.adjacency.mass[i]).epsilon(1e-6));
 
+  // A vertex on no face (an unused vertex of a template) changes no other vertex's weight or
+  // mass: the same lattice with one more point, far away, in no triangle.
+  Patch extra = lattice;
+  extra.points.push_back(Point_3(1e20, 0, 0));
+  extra.adjacency = adjacency_of(extra.points.size(), extra.triangles);
+  meshfit::set_cotangent_weights(extra.adjacency, extra.points, extra.triangles);
+  CHECK(std::equal(lattice.adjacency.weight.begin(), lattice.adjacency.weight.end(), extra.adjacency.weight.begin()));
+  CHECK(std::equal(lattice.adjacency.mass.begin(), lattice.adjacency.mass.end(), extra.adjacency.mass.begin()));
+
   // A triangle whose edge is not in the adjacency, and points of another count, are refused.
   Vertex_adjacency path;
   path.neighbours = {1, 0, 2, 1};

@@ -1097,7 +1097,8 @@ void open_family(Battery& bat, const std::string& dir) {
         c.expected_regions = genus0_regions(c.curves, {}, with_boundary ? 1 : 0);
         c.regions_note = with_boundary ? "E - V + C (network contains the disc's boundary)" : "E - V + 1 + C (curves inside the disc)";
         c.note = std::string("height field ") + H.name + " over the template's mean-value parameterisation onto the unit square";
-        c.quick = c.name == "open-plane-saddle-boundary" || c.name == "open-patch-01-wave-inner";
+        c.quick = c.name == "open-plane-saddle-boundary" || c.name == "open-patch-01-wave-inner" ||
+                  c.name == "open-mesh_with_border-wave-boundary";
         bat.cases.push_back(std::move(c));
       }
     }

@@ -61,20 +61,28 @@ inline const char* to_string(Fine_level level) { return level == Fine_level::sur
 /// thin-plate field moves the embedded curves into place (deform_fine_on_surface, step 3).
 enum class Fine_shape {
   /// The shape the approach (step 0) left there, whose thin-plate fields ran on the template's
-  /// parametrisation (uniform Laplacian): the displacement is smooth. Default.
+  /// parametrisation (uniform Laplacian): the displacement is smooth.
   approach,
   /// The template's bending (normal_bending; of the mesh as given for deform_fine_on_surface),
   /// in the metric of the surface with the curves embedded: Laplacian editing on cotangent
   /// weights (displacement.h). A plane template stays a plane between the curves' bends.
-  /// Measured on bench/battery (Hausdorff distance to the truth, % of the diagonal, approach ->
-  /// template): ico10242-peanut-latlong 1.02 -> 0.69, open-mesh_with_border-wave-boundary 1.38 ->
-  /// 1.00, ico2562-bumpy-great 3.80 -> 3.16; but curves denser than the template (its vertices
-  /// midpoint-subdivided) come out worse, ico2562-superellipsoid-latlong-dense10 0.88 -> 2.02,
-  /// and open templates without their border in the network 11 -> 18: not the default yet.
-  template_bending
+  template_bending,
+  /// Default: `template_bending`, unless the curves are sampled more densely than the template's
+  /// edges (the median segment shorter than half the mean edge of the coarse surface, whose
+  /// midpoint subdivisions are undone in that measure), then `approach`. Measured on
+  /// bench/battery (270 rows, Hausdorff distance to the truth in % of the diagonal, approach ->
+  /// template): template_bending gains ico10242-peanut-latlong 1.02 -> 0.69 and
+  /// open-mesh_with_border-wave-boundary 1.38 -> 1.00 (both pass on all 5 placements now) and
+  /// brings most failing rows nearer (ico2562-peanut-great 3.53 -> 1.06), but loses every row
+  /// whose curves are denser than the template, where the embedding leaves thin faces whose
+  /// cotangent metric the field follows (ico2562-superellipsoid-latlong-dense10 0.88 -> 2.03,
+  /// dense3 0.89 -> 1.20); the choice keeps both gains and no loss (70 -> 80 rows pass).
+  automatic
 };
-/// "approach" or "template" (the command line's spelling).
-inline const char* to_string(Fine_shape s) { return s == Fine_shape::approach ? "approach" : "template"; }
+/// "approach", "template" or "auto" (the command line's spelling).
+inline const char* to_string(Fine_shape s) {
+  return s == Fine_shape::approach ? "approach" : s == Fine_shape::template_bending ? "template" : "auto";
+}
 
 /// How Fine_level::surface brought the coarse surface towards the curves before embedding them
 /// (deform_fine_on_surface, step 0).
@@ -114,7 +122,7 @@ struct Deformation_report {
   std::vector<std::size_t> dropped_network_vertices;  ///< Curve_density::drop: not represented
   Rbf_fit_report fine_fit;  ///< Fine_level::thesis
   Fine_level fine_level = Fine_level::surface;  ///< the fine level that ran (or would have)
-  Fine_shape fine_shape = Fine_shape::approach;  ///< Fine_level::surface: the shape step 3 gave between the curves
+  Fine_shape fine_shape = Fine_shape::approach;  ///< Fine_level::surface: the shape step 3 gave between the curves (never automatic)
   // Fine_level::surface
   double largest_projection_distance = 0;   ///< from a network vertex to the coarse surface
   /// Edges between two curves' vertices split so that every face has a corner free to move.
@@ -202,7 +210,7 @@ struct Deform_options {
   Rbf_kernel rbf_kernel = Rbf_kernel::linear;            ///< named parameter `rbf_kernel`
   Curve_density curve_density = Curve_density::refine;   ///< `curve_density`
   Fine_level fine_level = Fine_level::surface;           ///< `fine_level`
-  Fine_shape fine_shape = Fine_shape::approach;          ///< `fine_shape`
+  Fine_shape fine_shape = Fine_shape::automatic;         ///< `fine_shape`
   bool coarse_only = false;                              ///< `coarse_only` (deform_template)
   std::size_t flip_prevention_rounds = 10;               ///< `flip_prevention_rounds`
   std::size_t memory_limit = 0;                          ///< `memory_limit`; 0: default_memory_limit()

@@ -61,7 +61,7 @@ struct Displacement_report {
 /// triangles keeps weight 1 and mass equal to the number of neighbours (the uniform Laplacian's):
 /// w_ij = (√3/2)(cot α + cot β) with each cotangent bounded by cot(10°) in magnitude and w_ij at
 /// least 0.05 (an obtuse pair of angles would make it negative), mass_i = 6 A_i / Ā (A_i a third
-/// of the area of i's faces, Ā their mean over the vertices, A_i at least 0.001 Ā). The
+/// of the area of i's faces, Ā their mean over the vertices on a face, A_i at least 0.001 Ā). The
 /// thin-plate field on these weights approximates the surface's own bi-Laplacian where the
 /// uniform one follows the mesh's vertex density: on a template whose triangles vary in size and
 /// shape the uniform field bends towards the finer part. Dimensionless: the same for the mesh

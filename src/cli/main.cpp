@@ -32,6 +32,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <initializer_list>
 #include <iomanip>
 #include <sstream>
 
@@ -103,8 +104,9 @@ const Option_spec option_specs[] = {
     {"--fine-level", "L", "surface (embed the curves in the coarse surface, then move them into place with a "
                           "thin-plate displacement) or thesis (nearest-vertex RBF, subdivision)"},
     {"--fine-shape", "S", "the surface fine level's shape between the curves: approach (kept from the coarse "
-                          "surface brought to the curves) or template (the template's bending, in the surface's "
-                          "metric: Laplacian editing)"},
+                          "surface brought to the curves), template (the template's bending, in the surface's "
+                          "metric: Laplacian editing) or auto (template, unless the curves are sampled more "
+                          "densely than the template's edges: approach)"},
     {"--max-rounds", "N", "flip prevention (thesis) or untangling (surface) rounds at most"},
     {"--max-memory", "SIZE", "refuse (exit 3, with the estimate) work whose largest allocation, a dense RBF "
                              "system or reading an input (10 times its size), would exceed SIZE (2G, 512M; "
@@ -809,27 +811,38 @@ Json json_quality(const meshfit::Mesh_data& out) {
   return j;
 }
 
-// `option`'s value, one of two spellings `a` and `b`, as the value it names; `value` unchanged
+// `option`'s value, one of the spellings of `choices`, as the value it names; `value` unchanged
 // when the option is not given.
 template <typename T>
-void set_choice(const Command_line& cl, const char* option, const char* a, T value_a, const char* b, T value_b,
+void set_choice(const Command_line& cl, const char* option, std::initializer_list<std::pair<const char*, T>> choices,
                 T& value) {
   const auto it = cl.values.find(option);
   if (it == cl.values.end()) return;
-  if (it->second != a && it->second != b)
-    throw Usage_error{std::string(option) + " must be " + a + " or " + b + ", not '" + it->second + "'"};
-  value = it->second == a ? value_a : value_b;
+  std::string names;
+  std::size_t k = 0;
+  for (const auto& [name, v] : choices) {
+    if (it->second == name) {
+      value = v;
+      return;
+    }
+    names += (k == 0 ? "" : k + 1 == choices.size() ? " or " : ", ") + std::string(name);
+    ++k;
+  }
+  throw Usage_error{std::string(option) + " must be " + names + ", not '" + it->second + "'"};
 }
 
 // Stage 1's options: the library's defaults (meshfit::Deform_options), changed by the command line.
 meshfit::Deform_options deform_options(const Command_line& cl) {
   meshfit::Deform_options o;
-  set_choice(cl, "--kernel", "linear", meshfit::Rbf_kernel::linear, "cubic", meshfit::Rbf_kernel::cubic, o.rbf_kernel);
-  set_choice(cl, "--curve-density", "refine", meshfit::Curve_density::refine, "drop", meshfit::Curve_density::drop,
+  set_choice(cl, "--kernel", {{"linear", meshfit::Rbf_kernel::linear}, {"cubic", meshfit::Rbf_kernel::cubic}}, o.rbf_kernel);
+  set_choice(cl, "--curve-density", {{"refine", meshfit::Curve_density::refine}, {"drop", meshfit::Curve_density::drop}},
              o.curve_density);
-  set_choice(cl, "--fine-level", "surface", meshfit::Fine_level::surface, "thesis", meshfit::Fine_level::thesis,
+  set_choice(cl, "--fine-level", {{"surface", meshfit::Fine_level::surface}, {"thesis", meshfit::Fine_level::thesis}},
              o.fine_level);
-  set_choice(cl, "--fine-shape", "approach", meshfit::Fine_shape::approach, "template", meshfit::Fine_shape::template_bending,
+  set_choice(cl, "--fine-shape",
+             {{"auto", meshfit::Fine_shape::automatic},
+              {"approach", meshfit::Fine_shape::approach},
+              {"template", meshfit::Fine_shape::template_bending}},
              o.fine_shape);
   if (cl.values.count("--max-rounds")) {
     const std::string& r = cl.values.at("--max-rounds");

@@ -923,6 +923,30 @@ Deformation_report fine_on_surface(Work_mesh& tm, const Curve_network& network, 
 /// The largest template that deform_template's subdivision makes.
 constexpr std::size_t max_subdivided_faces = 2000000;
 
+/// The median length of the network's segments (the upper one of an even count); 0 without segments.
+inline double median_segment_length(const Curve_network& network) {
+  std::vector<double> lengths;
+  for (const auto& sk : network.segments())
+    lengths.push_back(std::sqrt(CGAL::squared_distance(network.point(sk[0]), network.point(sk[1]))));
+  if (lengths.empty()) return 0;
+  std::nth_element(lengths.begin(), lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 2), lengths.end());
+  return lengths[lengths.size() / 2];
+}
+
+/// Fine_shape::automatic (deform.h) resolved on the mesh the surface fine level starts from:
+/// Fine_shape::approach when the curves are sampled more densely than the template's edges (the
+/// median segment shorter than half the mean edge of `tm` times 2^`subdivisions`, the midpoint
+/// subdivisions made before the coarse level: the template's own edge at the curves' scale),
+/// Fine_shape::template_bending otherwise. Other values are returned as they are. A ratio of
+/// lengths: unchanged by where the inputs are placed.
+template <typename TriangleMesh, typename VPM>
+Fine_shape resolved_fine_shape(Fine_shape shape, const TriangleMesh& tm, const VPM& vpm, const Curve_network& network,
+                               std::size_t subdivisions = 0) {
+  if (shape != Fine_shape::automatic) return shape;
+  const double edge = std::ldexp(mean_edge_length(tm, vpm), static_cast<int>(subdivisions));
+  return 2 * median_segment_length(network) < edge ? Fine_shape::approach : Fine_shape::template_bending;
+}
+
 /// Curves sampled far more densely than the (subdivided, coarsely placed) template's edges would
 /// put rows of network vertices a fraction of an edge apart into its faces: needles that fold,
 /// found only after a long run. Refused when the median segment is shorter than an eighth of the
@@ -931,12 +955,7 @@ template <typename TriangleMesh, typename VPM>
 void refuse_oversampled_curves(const TriangleMesh& tm, const VPM& vpm, const Curve_network& network,
                                std::size_t subdivisions) {
   const double edge = mean_edge_length(tm, vpm);
-  std::vector<double> lengths;
-  for (const auto& sk : network.segments())
-    lengths.push_back(std::sqrt(CGAL::squared_distance(network.point(sk[0]), network.point(sk[1]))));
-  if (lengths.empty()) return;
-  std::nth_element(lengths.begin(), lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 2), lengths.end());
-  const double median = lengths[lengths.size() / 2];
+  const double median = median_segment_length(network);
   if (!(median > 0 && median * 8 < edge)) return;
   std::ostringstream os;
   os.precision(3);

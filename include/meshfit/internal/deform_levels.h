@@ -453,7 +453,7 @@ Deformation_report deform_fine_on_surface_impl(TriangleMesh& tm, const Curve_net
   const Mesh_snapshot coarse = Mesh_snapshot::of(tm, vpm);
   // The shape between the curves that every start's step 3 gives the surface there: the
   // template's, or the mesh's as given.
-  const bool bend = options.fine_shape == Fine_shape::template_bending;
+  const bool bend = resolved_fine_shape(options.fine_shape, tm, vpm, network) == Fine_shape::template_bending;
   std::vector<double> own_bending;
   if (bend && !template_bending) own_bending = normal_bending(coarse.points, coarse.triangles);
   const std::vector<double>* bending = !bend ? nullptr : template_bending ? template_bending : &own_bending;
@@ -532,13 +532,13 @@ Deformation_report deform_template_unscaled(TriangleMesh& tm, const Curve_networ
   // (before the coarse level, so that the new vertices follow the RBF rather than the chords),
   // at most three times and to at most max_subdivided_faces faces.
   std::size_t subdivisions = 0;
-  // Fine_shape::template_bending: the template's own shape, taken before the subdivision, whose
-  // flat faces bend only at their corners and edges (the vertices it adds, after the template's,
-  // take their neighbours' bending: fine_on_surface). That is not what makes the dense rows
-  // worse: ico2562-superellipsoid-latlong-dense10 ends 2.02 % from the truth so, 2.03 % with
-  // the subdivided template's bending.
+  // Fine_shape::template_bending (or automatic, resolved after the coarse level): the template's
+  // own shape, taken before the subdivision, whose flat faces bend only at their corners and
+  // edges (the vertices it adds, after the template's, take their neighbours' bending:
+  // fine_on_surface). That is not what makes the dense rows worse: ico2562-superellipsoid-
+  // latlong-dense10 ends 2.02 % from the truth so, 2.03 % with the subdivided template's bending.
   std::optional<Mesh_snapshot> shape;
-  if (level == Fine_level::surface && options.fine_shape == Fine_shape::template_bending && !coarse_only)
+  if (level == Fine_level::surface && options.fine_shape != Fine_shape::approach && !coarse_only)
     shape = Mesh_snapshot::of(tm, get_property_map(CGAL::vertex_point, tm));
   const bool surface_refined = level == Fine_level::surface && density == Curve_density::refine && !coarse_only;
   if (surface_refined) {
@@ -555,10 +555,16 @@ Deformation_report deform_template_unscaled(TriangleMesh& tm, const Curve_networ
   coarse.template_subdivisions = subdivisions;
   if (coarse.orientation_reversed || coarse_only) return coarse;
   if (surface_refined) refuse_oversampled_curves(tm, get_property_map(CGAL::vertex_point, tm), network, subdivisions);
+  // Fine_shape::automatic is resolved on the coarse surface, against the template's edges before
+  // the subdivision.
+  Deform_options fine_options = options;
+  fine_options.fine_shape =
+      resolved_fine_shape(options.fine_shape, tm, get_property_map(CGAL::vertex_point, tm), network, subdivisions);
+  if (fine_options.fine_shape != Fine_shape::template_bending) shape.reset();
   std::vector<double> bending;  // empty unless Fine_shape::template_bending
   if (shape) bending = template_bending_after_coarse(*shape, Mesh_snapshot::of(tm, get_property_map(CGAL::vertex_point, tm)));
   Deformation_report fine = level == Fine_level::surface
-                                ? deform_fine_on_surface_impl(tm, network, pairs, options, shape ? &bending : nullptr)
+                                ? deform_fine_on_surface_impl(tm, network, pairs, fine_options, shape ? &bending : nullptr)
                                 : deform_fine_impl(tm, network, pairs, options);
   fine.coarse_fit = coarse.coarse_fit;
   fine.coarse_seconds = coarse.coarse_seconds;
