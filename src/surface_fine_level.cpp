@@ -857,6 +857,7 @@ void Surface_fine_level::set_targets() {
     displacement = interpolate_displacements(weighted, held, given, 2, &report.displacement, &target);
   } else {
     displacement = interpolate_displacements(adjacency, held, given, 2, &report.displacement);
+    report.fine_shape = Fine_shape::approach;  // the template's bending was not used (none, or a band)
   }
   report.displacement.held_beyond_band = beyond_band;
   report.displacement.constrained_vertices -= report.displacement.held_beyond_band;

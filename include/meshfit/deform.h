@@ -65,7 +65,10 @@ enum class Fine_shape {
   approach,
   /// The template's bending (normal_bending; of the mesh as given for deform_fine_on_surface),
   /// in the metric of the surface with the curves embedded: Laplacian editing on cotangent
-  /// weights (displacement.h). A plane template stays a plane between the curves' bends.
+  /// weights (displacement.h). A plane template stays a plane between the curves' bends. Only
+  /// where step 3 is solved on the whole mesh: when it is solved in a band along the curves
+  /// (displacement_held_beyond_band > 0, e.g. ico10242-bumpy-great: 5128 vertices held), the
+  /// approach's shape is kept and reported.
   template_bending,
   /// Default: `template_bending`, unless the curves are sampled more densely than the template's
   /// edges (the median segment shorter than half the mean edge of the coarse surface, whose
@@ -122,7 +125,7 @@ struct Deformation_report {
   std::vector<std::size_t> dropped_network_vertices;  ///< Curve_density::drop: not represented
   Rbf_fit_report fine_fit;  ///< Fine_level::thesis
   Fine_level fine_level = Fine_level::surface;  ///< the fine level that ran (or would have)
-  Fine_shape fine_shape = Fine_shape::approach;  ///< Fine_level::surface: the shape step 3 gave between the curves (never automatic)
+  Fine_shape fine_shape = Fine_shape::approach;  ///< Fine_level::surface: the shape step 3 gave between the curves (never automatic; approach when its field was solved in a band along the curves, which keeps the shape beyond it)
   // Fine_level::surface
   double largest_projection_distance = 0;   ///< from a network vertex to the coarse surface
   /// Edges between two curves' vertices split so that every face has a corner free to move.
