@@ -376,9 +376,7 @@ std::vector<Vector_3> laplacian_of(const Vertex_adjacency& adj, const std::vecto
   return out;
 }
 
-std::vector<double> normal_bending(const std::vector<Point_3>& points, const std::vector<std::array<std::size_t, 3>>& triangles) {
-  internal::Fp_trap_scope traps;
-  const std::size_t n = points.size();
+Vertex_adjacency triangle_adjacency(std::size_t n, const std::vector<std::array<std::size_t, 3>>& triangles) {
   std::vector<std::vector<std::size_t>> around(n);
   for (std::size_t t = 0; t < triangles.size(); ++t)
     for (std::size_t k = 0; k < 3; ++k) {
@@ -394,6 +392,13 @@ std::vector<double> normal_bending(const std::vector<Point_3>& points, const std
     adj.neighbours.insert(adj.neighbours.end(), a.begin(), a.end());
     adj.offsets.push_back(adj.neighbours.size());
   }
+  return adj;
+}
+
+std::vector<double> normal_bending(const std::vector<Point_3>& points, const std::vector<std::array<std::size_t, 3>>& triangles) {
+  internal::Fp_trap_scope traps;
+  const std::size_t n = points.size();
+  Vertex_adjacency adj = triangle_adjacency(n, triangles);
   set_cotangent_weights(adj, points, triangles);
   const std::vector<Vector_3> lap = laplacian_of(adj, points);
   std::vector<double> area;

@@ -820,7 +820,12 @@ TEST_CASE("deform: on a template far finer than the curves, step 3 solves along 
   Example e = load_example();
   for (int k = 0; k < 2; ++k) meshfit::internal::subdivide_at_midpoints(e.tm, get(CGAL::vertex_point, e.tm));
   const std::size_t n = e.tm.number_of_vertices();
+  // The example's curves run along the unsubdivided sphere's edges, four of these long: the
+  // template's bending is asked for, but step 3 runs in a band, where it is not applied.
+  REQUIRE(meshfit::internal::resolved_fine_shape(meshfit::Fine_shape::automatic, e.tm, get(CGAL::vertex_point, e.tm),
+                                                 e.network) == meshfit::Fine_shape::template_bending);
   const auto r = meshfit::deform_template(e.tm, e.network, e.pairs);
+  CHECK(r.fine_shape == meshfit::Fine_shape::approach);
   CHECK(r.template_subdivisions == 0);
   // 40 962 vertices: the ICP approach is solved in a coarse space of about a sixteenth of them.
   CHECK(r.approach == meshfit::Approach::icp);

@@ -56,6 +56,12 @@ struct Displacement_report {
   std::size_t held_beyond_band = 0;
 };
 
+/// The neighbours of each of `n` vertices by the edges of `triangles` (corner indices), each row
+/// sorted and without repeats; no weights, masses or border flags (a vertex on no triangle has an
+/// empty row).
+/// \throws Invalid_input naming the first triangle with a corner out of range.
+Vertex_adjacency triangle_adjacency(std::size_t n, const std::vector<std::array<std::size_t, 3>>& triangles);
+
 /// Sets `adjacency.weight` and `adjacency.mass` to the cotangent Laplacian of the mesh at `points`
 /// (`triangles`: its faces, corner indices into `points`), scaled so that a mesh of equilateral
 /// triangles keeps weight 1 and mass equal to the number of neighbours (the uniform Laplacian's):

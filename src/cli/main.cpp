@@ -106,7 +106,8 @@ const Option_spec option_specs[] = {
     {"--fine-shape", "S", "the surface fine level's shape between the curves: approach (kept from the coarse "
                           "surface brought to the curves), template (the template's bending, in the surface's "
                           "metric: Laplacian editing) or auto (template, unless the curves are sampled more "
-                          "densely than the template's edges: approach)"},
+                          "densely than the template's edges: approach; approach also when every start "
+                          "leaves defects with the template's bending)"},
     {"--max-rounds", "N", "flip prevention (thesis) or untangling (surface) rounds at most"},
     {"--max-memory", "SIZE", "refuse (exit 3, with the estimate) work whose largest allocation, a dense RBF "
                              "system or reading an input (10 times its size), would exceed SIZE (2G, 512M; "

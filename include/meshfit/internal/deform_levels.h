@@ -424,7 +424,8 @@ struct Mesh_snapshot {
 template <typename TriangleMesh>
 Deformation_report deform_fine_on_surface_impl(TriangleMesh& tm, const Curve_network& network,
                                     const std::vector<Correspondence>& pairs, const Deform_options& options,
-                                    const std::vector<double>* template_bending = nullptr) {
+                                    const std::vector<double>* template_bending = nullptr,
+                                    std::size_t subdivisions = 0) {
   auto vpm = get_property_map(CGAL::vertex_point, tm);
   internal::check_pairs(pairs, num_vertices(tm), num_faces(tm), network);
   const double h = internal::mean_edge_length(tm, vpm);
@@ -452,50 +453,58 @@ Deformation_report deform_fine_on_surface_impl(TriangleMesh& tm, const Curve_net
   internal::check_polylines_near(tm, vpm, coarse_tree, network);
   const Mesh_snapshot coarse = Mesh_snapshot::of(tm, vpm);
   // The shape between the curves that every start's step 3 gives the surface there: the
-  // template's, or the mesh's as given.
-  const bool bend = resolved_fine_shape(options.fine_shape, tm, vpm, network) == Fine_shape::template_bending;
+  // template's bending (`template_bending`, else the mesh's as given), or the approach's.
+  // Fine_shape::automatic, when it resolves to the bending, falls back to the approach's shape if
+  // no start is clean with the bending: a second pass over the starts (and rounds), the result
+  // with the fewest defects of both passes kept (the bending's on a tie).
+  const bool bend =
+      resolved_fine_shape(options.fine_shape, tm, vpm, network, subdivisions) == Fine_shape::template_bending;
+  const int passes = bend && options.fine_shape == Fine_shape::automatic ? 2 : 1;
   std::vector<double> own_bending;
   if (bend && !template_bending) own_bending = normal_bending(coarse.points, coarse.triangles);
-  const std::vector<double>* bending = !bend ? nullptr : template_bending ? template_bending : &own_bending;
   std::optional<Deformation_report> best;
   std::optional<Mesh_snapshot> best_mesh;
   std::size_t tried = 0;
-  bool walled = false;  // a start left a segment with no path
-  for (int round = 0; round < 2 && (round == 0 || walled); ++round) {
-    for (int start = 0; start < 3; ++start) {
-      if (tried > 0) coarse.restore(tm, vpm);
-      internal::Approach_result approach;
-      std::optional<internal::Face_tree<TriangleMesh, decltype(vpm)>> tree_after;  // ICP's last tree, for step 1
-      // Curves more than twice as dense as the template: no approach will give them room (step 2
-      // refuses such inputs), and ICP would only move the template around.
-      if (start == 0 && cut.network.number_of_vertices() <= 2 * num_vertices(tm))
-        approach = internal::approach_curves_icp(tm, vpm, cut.network, cut_pairs, tried == 0 ? &coarse_tree : nullptr,
-                                                 &tree_after);
-      if (start == 1) approach = internal::approach_curves(tm, vpm, cut.network, cut_pairs);
-      if (start < 2 && approach.scale == 0) continue;  // the approach made no motion: the same start as the last
-      std::optional<Deformation_report> r;
-      try {
-        r = fine_on_cut_network(tm, network, pairs, cut, cut_pairs, options, round == 1, std::move(tree_after), bending);
-      } catch (const Cancelled&) {
-        throw;  // the caller's cancel, not a failure of this start
-      } catch (const Algorithm_failure&) {
-        // The last start's reason (from the coarse surface as it is) is said rather than a result
-        // with defects kept.
-        if (start == 2 && (round == 1 || !walled)) throw;
-      }
-      ++tried;
-      if (!r) continue;
-      walled = walled || !r->segments_not_embedded.empty();
-      r->approach_constraints = approach.constraints;
-      r->approach_scale = approach.scale;
-      r->approach_coarse_nodes = approach.coarse_nodes;
-      r->approach = start == 0 ? Approach::icp : start == 1 ? Approach::nearest_vertices : Approach::none;
-      r->approach_retried = tried > 1;
-      if (!best || defects(*r) < defects(*best)) {
-        best = r;
-        best_mesh.reset();
-        if (defects(*r) == 0) return *best;
-        best_mesh = Mesh_snapshot::of(tm, vpm);
+  for (int pass = 0; pass < passes; ++pass) {
+    const bool last_pass = pass + 1 == passes;
+    const std::vector<double>* bending = !bend || pass == 1 ? nullptr : template_bending ? template_bending : &own_bending;
+    bool walled = false;  // a start left a segment with no path
+    for (int round = 0; round < 2 && (round == 0 || walled); ++round) {
+      for (int start = 0; start < 3; ++start) {
+        if (tried > 0) coarse.restore(tm, vpm);
+        internal::Approach_result approach;
+        std::optional<internal::Face_tree<TriangleMesh, decltype(vpm)>> tree_after;  // ICP's last tree, for step 1
+        // Curves more than twice as dense as the template: no approach will give them room (step 2
+        // refuses such inputs), and ICP would only move the template around.
+        if (start == 0 && cut.network.number_of_vertices() <= 2 * num_vertices(tm))
+          approach = internal::approach_curves_icp(tm, vpm, cut.network, cut_pairs, tried == 0 ? &coarse_tree : nullptr,
+                                                   &tree_after);
+        if (start == 1) approach = internal::approach_curves(tm, vpm, cut.network, cut_pairs);
+        if (start < 2 && approach.scale == 0) continue;  // the approach made no motion: the same start as the last
+        std::optional<Deformation_report> r;
+        try {
+          r = fine_on_cut_network(tm, network, pairs, cut, cut_pairs, options, round == 1, std::move(tree_after), bending);
+        } catch (const Cancelled&) {
+          throw;  // the caller's cancel, not a failure of this start
+        } catch (const Algorithm_failure&) {
+          // The last start's reason (from the coarse surface as it is) is said rather than a result
+          // with defects kept.
+          if (last_pass && start == 2 && (round == 1 || !walled)) throw;
+        }
+        ++tried;
+        if (!r) continue;
+        walled = walled || !r->segments_not_embedded.empty();
+        r->approach_constraints = approach.constraints;
+        r->approach_scale = approach.scale;
+        r->approach_coarse_nodes = approach.coarse_nodes;
+        r->approach = start == 0 ? Approach::icp : start == 1 ? Approach::nearest_vertices : Approach::none;
+        r->approach_retried = tried > 1;
+        if (!best || defects(*r) < defects(*best)) {
+          best = r;
+          best_mesh.reset();
+          if (defects(*r) == 0) return *best;
+          best_mesh = Mesh_snapshot::of(tm, vpm);
+        }
       }
     }
   }
@@ -556,16 +565,16 @@ Deformation_report deform_template_unscaled(TriangleMesh& tm, const Curve_networ
   if (coarse.orientation_reversed || coarse_only) return coarse;
   if (surface_refined) refuse_oversampled_curves(tm, get_property_map(CGAL::vertex_point, tm), network, subdivisions);
   // Fine_shape::automatic is resolved on the coarse surface, against the template's edges before
-  // the subdivision.
-  Deform_options fine_options = options;
-  fine_options.fine_shape =
-      resolved_fine_shape(options.fine_shape, tm, get_property_map(CGAL::vertex_point, tm), network, subdivisions);
-  if (fine_options.fine_shape != Fine_shape::template_bending) shape.reset();
+  // the subdivision (deform_fine_on_surface_impl resolves it the same way).
+  if (resolved_fine_shape(options.fine_shape, tm, get_property_map(CGAL::vertex_point, tm), network, subdivisions) !=
+      Fine_shape::template_bending)
+    shape.reset();
   std::vector<double> bending;  // empty unless Fine_shape::template_bending
   if (shape) bending = template_bending_after_coarse(*shape, Mesh_snapshot::of(tm, get_property_map(CGAL::vertex_point, tm)));
-  Deformation_report fine = level == Fine_level::surface
-                                ? deform_fine_on_surface_impl(tm, network, pairs, fine_options, shape ? &bending : nullptr)
-                                : deform_fine_impl(tm, network, pairs, options);
+  Deformation_report fine =
+      level == Fine_level::surface
+          ? deform_fine_on_surface_impl(tm, network, pairs, options, shape ? &bending : nullptr, subdivisions)
+          : deform_fine_impl(tm, network, pairs, options);
   fine.coarse_fit = coarse.coarse_fit;
   fine.coarse_seconds = coarse.coarse_seconds;
   fine.coarse_flipped_faces = coarse.coarse_flipped_faces;

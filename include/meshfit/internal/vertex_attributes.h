@@ -34,22 +34,7 @@ namespace meshfit {
 namespace internal {
 
 /// The neighbours of every vertex of `mesh` (by the edges of its triangles).
-inline Vertex_adjacency adjacency_of(const Mesh_data& mesh) {
-  std::vector<std::vector<std::size_t>> around(mesh.points.size());
-  for (const auto& t : mesh.triangles)
-    for (int k = 0; k < 3; ++k) {
-      around[t[k]].push_back(t[(k + 1) % 3]);
-      around[t[k]].push_back(t[(k + 2) % 3]);
-    }
-  Vertex_adjacency a;
-  for (auto& n : around) {
-    std::sort(n.begin(), n.end());
-    n.erase(std::unique(n.begin(), n.end()), n.end());
-    a.neighbours.insert(a.neighbours.end(), n.begin(), n.end());
-    a.offsets.push_back(a.neighbours.size());
-  }
-  return a;
-}
+inline Vertex_adjacency adjacency_of(const Mesh_data& mesh) { return triangle_adjacency(mesh.points.size(), mesh.triangles); }
 
 /// Values of N channels on the first `fixed.size()` vertices, extended harmonically to the
 /// others (see the top of this file). `what` names the attribute in error messages.
