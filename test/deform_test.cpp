@@ -921,4 +921,45 @@ TEST_CASE("deform: curves sampled far more densely than the template's edges are
   CHECK(after.triangles == before.triangles);
 }
 
+// The ICP approach leaves sharp edges of the coarse surface out of its fold test
+// (Deform_state::sharp_edges): two faces on a hinge whose normals are phi apart, the test's own
+// configuration (the dihedral angle is 180 - phi degrees), at 59 and 61 degrees either side of
+// the 60-degree bound, flat, folded back over, and beside a face of zero area.
+TEST_CASE("deform: sharp edges are those whose faces' normals are 60 degrees apart or more, and those beside a zero-area face",
+          "[deform][predicates]") {
+  const double pi = std::acos(-1.0);
+  auto sharp_at = [&](double phi_degrees, bool zero_area = false) {
+    const double phi = phi_degrees * pi / 180;
+    Mesh m;
+    const auto a = m.add_vertex(meshfit::Point_3(0, 0, 0)), b = m.add_vertex(meshfit::Point_3(1, 0, 0));
+    const auto c = m.add_vertex(zero_area ? meshfit::Point_3(2, 0, 0) : meshfit::Point_3(0.5, 1, 0));
+    const auto d = m.add_vertex(meshfit::Point_3(0.5, -std::cos(phi), std::sin(phi)));
+    REQUIRE(m.add_face(a, b, c) != Mesh::null_face());
+    REQUIRE(m.add_face(b, a, d) != Mesh::null_face());
+    // Scaled, turned and moved far away: the verdict is a predicate on the points.
+    for (auto v : m.vertices()) {
+      const meshfit::Point_3& p = m.point(v);
+      m.point(v) = meshfit::Point_3(1e6 + 1e-3 * p.y(), -1e6 + 1e-3 * p.z(), 1e6 + 1e-3 * p.x());
+    }
+    meshfit::internal::Deform_state<Mesh, decltype(get(CGAL::vertex_point, m))> s(m, get(CGAL::vertex_point, m));
+    const std::vector<bool> sharp = s.sharp_edges(s.positions());
+    const auto shared = m.edge(m.halfedge(a, b));
+    std::size_t k = 0, flagged = 0;
+    bool at_shared = false;
+    for (auto e : m.edges()) {
+      if (sharp[k]) ++flagged;
+      if (e == shared) at_shared = sharp[k];
+      ++k;
+    }
+    CHECK(flagged == (at_shared ? 1u : 0u));  // border edges are never flagged
+    return at_shared;
+  };
+  CHECK_FALSE(sharp_at(0));
+  CHECK_FALSE(sharp_at(59));
+  CHECK(sharp_at(61));
+  CHECK(sharp_at(120));
+  CHECK(sharp_at(175));
+  CHECK(sharp_at(0, true));
+}
+
 }  // namespace meshfit_deform_test

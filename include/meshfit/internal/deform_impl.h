@@ -106,6 +106,26 @@ struct Deform_state {
   /// The faces beside an interior edge whose two faces turn more than 90 degrees apart at
   /// `positions` (exact: one face is not positively oriented in the other's plane), leaving out
   /// the edges `except` (folds already there).
+  /// Interior edges (by index in edges(tm)) whose two faces' normals are 60 degrees apart or more
+  /// at `positions`: the dihedral angle at the edge, between the half-planes through the faces'
+  /// third corners, at most 120 degrees (CGAL::compare_dihedral_angle, exact on the points); and
+  /// those beside a face of zero area, which has no normal.
+  std::vector<bool> sharp_edges(const std::vector<Point_3>& positions) const {
+    std::vector<bool> sharp(num_edges(tm), false);
+    std::size_t k = 0;
+    for (auto e : edges(tm)) {
+      const std::size_t ek = k++;
+      const auto h = halfedge(e, tm), g = opposite(h, tm);
+      if (is_border(h, tm) || is_border(g, tm)) continue;
+      auto at = [&](vertex_descriptor v) -> const Point_3& { return positions[get(index, v)]; };
+      const Point_3 &a = at(source(h, tm)), &b = at(target(h, tm));
+      const Point_3 &c = at(target(next(h, tm), tm)), &d = at(target(next(g, tm), tm));
+      sharp[ek] = CGAL::collinear(a, b, c) || CGAL::collinear(a, b, d) ||
+                  CGAL::compare_dihedral_angle(a, b, c, d, -0.5) != CGAL::LARGER;
+    }
+    return sharp;
+  }
+
   std::vector<face_descriptor> folded_faces(const std::vector<Point_3>& positions,
                                             std::vector<bool>* folded_edges = nullptr,
                                             const std::vector<bool>* except = nullptr) const {
@@ -617,18 +637,8 @@ class Icp_approach {
     // Edges exempt from the fold test: folded or sharp on the coarse surface.
     const std::vector<Point_3> p = s.positions();
     s.folded_faces(p, &exempt);
-    auto normal = [&](auto h) {
-      const auto& c = corners[get(face_index, face(h, tm))];
-      return CGAL::cross_product(p[c[1]] - p[c[0]], p[c[2]] - p[c[0]]);
-    };
-    std::size_t k = 0;
-    for (auto e : edges(tm)) {
-      const std::size_t ek = k++;
-      const auto h = halfedge(e, tm), g = opposite(h, tm);
-      if (is_border(h, tm) || is_border(g, tm)) continue;
-      const Vector_3 a = normal(h), b = normal(g);
-      if (!(a * b > 0.5 * std::sqrt(a.squared_length() * b.squared_length()))) exempt[ek] = true;
-    }
+    const std::vector<bool> sharp = s.sharp_edges(p);
+    for (std::size_t k = 0; k < exempt.size(); ++k) exempt[k] = exempt[k] || sharp[k];
   }
 
   // `tree`: the face tree at the mesh's points now, or nullptr. `tree_after`, when given, receives
