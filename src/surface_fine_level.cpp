@@ -190,6 +190,8 @@ class Surface_fine_level {
   std::vector<face_descriptor> bad_faces();
   // The free vertices of the bad faces and those up to `rings` edges away from them.
   std::vector<bool> rings_around(const std::vector<face_descriptor>& bad, std::size_t rings) const;
+  // The segments whose chains are nearest (in edges of the mesh) to any corner of `bad`.
+  std::vector<std::size_t> segments_nearest(const std::vector<face_descriptor>& bad) const;
   // 4a. A foldover-free energy (untangle_faces) on the free vertices within a few rings of the bad
   // faces, the rings growing while faces stay bad; each face judged in the plane of the reference
   // normal it is judged against here, each vertex moving in the plane of its own. The border
@@ -971,6 +973,30 @@ std::vector<bool> Surface_fine_level::rings_around(const std::vector<face_descri
   return in;
 }
 
+std::vector<std::size_t> Surface_fine_level::segments_nearest(const std::vector<face_descriptor>& bad) const {
+  // A breadth-first search over the mesh's edges from every chain at once, each vertex labelled
+  // with the segment of the chain that reached it first.
+  constexpr std::size_t none = static_cast<std::size_t>(-1);
+  std::vector<std::size_t> label(s.vertex.size(), none), queue;
+  for (std::size_t k = 0; k < chain_of.size(); ++k)
+    for (auto v : chain_of[k]) {
+      const std::size_t i = get(s.index, v);
+      if (label[i] == none) label[i] = k, queue.push_back(i);
+    }
+  for (std::size_t q = 0; q < queue.size(); ++q)
+    for (auto h : CGAL::halfedges_around_target(halfedge(s.vertex[queue[q]], tm), tm)) {
+      const std::size_t j = get(s.index, source(h, tm));
+      if (label[j] == none) label[j] = label[queue[q]], queue.push_back(j);
+    }
+  std::vector<std::size_t> out;
+  for (auto f : bad)
+    for (std::size_t c : s.corners(f))
+      if (label[c] != none) out.push_back(label[c]);
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
 void Surface_fine_level::untangle_around_bad() {
   std::vector<std::array<std::size_t, 3>> corners;
   std::vector<Vector_3> face_normal;
@@ -1279,6 +1305,8 @@ void Surface_fine_level::free_trapped_vertices() {
 
 void Surface_fine_level::finish() {
   flipped = bad_faces();
+  if (serious > 0)  // the faces turned over and those beside a folded edge come first
+    report.segments_near_defects = segments_nearest({flipped.begin(), flipped.begin() + static_cast<std::ptrdiff_t>(serious)});
   s.set_positions(after);
 
   for (std::size_t v = 0; v < nv; ++v)

@@ -386,6 +386,24 @@ TEST_CASE("cli: fit runs the whole pipeline on the embedded example", "[cli][fit
   }
 }
 
+TEST_CASE("cli: fit names the polylines nearest the faces the fine level left turned over", "[cli][fit][message]") {
+  // The battery's open-patch-01-wave-boundary with the template's bending asked for: 11 faces
+  // stay turned over (test/data/open-patch-01-wave-boundary/README.md).
+  Temp_dir dir;
+  const std::string d = MESHFIT_TEST_DATA_DIR "/open-patch-01-wave-boundary";
+  const Run_result r = run(dir, "fit --quiet --fine-shape template --template " + q(d + "/template.off") + " --curves " +
+                                    q(d + "/curves.polylines.txt") + " --correspondences " + q(d + "/pairs.txt") +
+                                    " --output " + q(dir.file("o.off")) + " --report " + q(dir.file("o.json")));
+  INFO(r.err);
+  CHECK(r.status == 3);
+  CHECK(r.err.find("flipped in the deformation; the faces the fine level left turned over or folded lie nearest polylines 1, 4 "
+                   "(in file order); ") != std::string::npos);
+  CHECK(r.err.find("give more correspondences (at crossings of those curves)") != std::string::npos);
+  CHECK_FALSE(std::filesystem::exists(dir.file("o.off")));
+  const std::string json = read_text(dir.file("o.json"));
+  CHECK(json.find("\"polylines_near_defects\": [\n") != std::string::npos);
+}
+
 TEST_CASE("cli: fit fed each malformed input exits 1, writes no output and a report that says why",
           "[cli][fit][malformed]") {
   for (const Malformed_case& c : malformed_catalogue()) {

@@ -656,6 +656,13 @@ TEST_CASE("deform: the message for faces left turned over names what each fine l
   CHECK_THAT(m, Catch::StartsWith("3 faces still turn over after 7 rounds of untangling"));
   CHECK_THAT(m, Catch::Contains("313 edges were split between curves"));
   CHECK_THAT(m, Catch::Contains("use a finer template (subdivide it)") && Catch::Contains("give more correspondences"));
+  CHECK_THAT(m, !Catch::Contains("lie nearest"));
+  // Where: the polylines nearest the defects, 1-based as in the file.
+  r.polylines_near_defects = {1, 4};
+  CHECK_THAT(meshfit::remaining_flips_message(r),
+             Catch::Contains("turned over or folded lie nearest polylines 2, 5 (in file order)"));
+  r.polylines_near_defects = {0};
+  CHECK_THAT(meshfit::remaining_defects_advice(r), Catch::StartsWith("the faces the fine level left turned over or folded lie nearest polyline 1 (in file order); "));
 }
 
 namespace {

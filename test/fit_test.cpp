@@ -359,8 +359,16 @@ TEST_CASE("fit: Fine_shape::automatic falls back to the approach's shape when th
                                                meshfit::parameters::fine_shape(meshfit::Fine_shape::template_bending));
   CHECK(forced.fine_shape == meshfit::Fine_shape::template_bending);
   CHECK(forced.remaining_flips + forced.remaining_folds + forced.segments_not_embedded.size() > 0);
+  // Where the defects lie: polylines of the network (measured: the first and the fourth of its 5).
+  REQUIRE_FALSE(forced.polylines_near_defects.empty());
+  CHECK(forced.polylines_near_defects.size() < network.polylines().size());
+  for (std::size_t k : forced.polylines_near_defects) CHECK(k < network.polylines().size());
+  CHECK(std::is_sorted(forced.polylines_near_defects.begin(), forced.polylines_near_defects.end()));
   const auto r = meshfit::fit_template_to_curves(tm, network, pairs);
   CHECK(r.deformation.fine_shape == meshfit::Fine_shape::approach);
+  // (The fine level leaves one edge folded here, measured; the template has 49 folded edges and
+  // the result no more, so the fit passes.)
+  CHECK(r.deformation.polylines_near_defects.empty() == (r.deformation.remaining_flips + r.deformation.remaining_folds == 0));
   CHECK(r.deformation.displacement.held_beyond_band == 0);
   const fit_oracle::Fit_check check = fit_oracle::check_fit(
       tm, template_mesh, fit_oracle::network_of(fit_oracle::read_polylines(dir + "/curves.polylines.txt")), 9);

@@ -163,6 +163,13 @@ struct Deformation_report {
   std::size_t untangle_rounds = 0;          ///< rounds of local relaxation where faces flipped
   std::size_t untangled_vertices = 0;       ///< free vertices relaxed, over all rounds
   std::size_t remaining_folds = 0;          ///< faces beside an edge folded by the fine level, at the end
+  /// Fine_level::surface: the segments (indices into network.segments()) whose edge chains are
+  /// nearest, along the mesh's edges, to a face still turned over or beside a folded edge at the
+  /// end (remaining_flips, remaining_folds); empty when there is none.
+  std::vector<std::size_t> segments_near_defects;
+  /// The input polylines (0-based, in input order) that those segments belong to: where to add
+  /// correspondences (remaining_flips_message names them).
+  std::vector<std::size_t> polylines_near_defects;
   std::size_t edges_flipped = 0;            ///< to repair bad faces whose corners are all held
   double fine_seconds = 0;                  ///< time of the fine level
   // result
@@ -192,6 +199,19 @@ inline std::string orientation_reversal_message(double affine_determinant) {
   return os.str();
 }
 
+/// What to change when Fine_level::surface leaves faces turned over or folded, and where they lie
+/// (report.polylines_near_defects, 1-based in the text).
+inline std::string remaining_defects_advice(const Deformation_report& r) {
+  std::ostringstream os;
+  if (!r.polylines_near_defects.empty())
+    os << "the faces the fine level left turned over or folded lie nearest "
+       << internal::name_polylines(r.polylines_near_defects) << " (in file order); ";
+  os << "where curves run close together, use a finer template (subdivide it) or sparser curves; elsewhere, "
+        "give more correspondences (at crossings of those curves) so that the coarse level brings the template "
+        "closer to the curves";
+  return os.str();
+}
+
 /// What to tell the user when faces still turn over after the fine level (report.remaining_flips
 /// > 0): what was tried, and what to change, for the fine level that ran.
 inline std::string remaining_flips_message(const Deformation_report& r) {
@@ -205,8 +225,7 @@ inline std::string remaining_flips_message(const Deformation_report& r) {
   os << r.remaining_flips << " faces still turn over after " << r.untangle_rounds << " rounds of untangling";
   if (r.edges_split_between_curves > 0)
     os << " (" << r.edges_split_between_curves << " edges were split between curves running side by side)";
-  os << ": where curves run close together, use a finer template (subdivide it) or sparser curves; elsewhere, "
-        "give more correspondences so that the coarse level brings the template closer to the curves";
+  os << ": " << remaining_defects_advice(r);
   return os.str();
 }
 

@@ -798,6 +798,9 @@ Json json_fine_level(const meshfit::Deformation_report& r) {
     j["displacement_held_beyond_band"] = r.displacement.held_beyond_band;
     j["untangle_rounds"] = r.untangle_rounds;
     j["untangled_vertices"] = r.untangled_vertices;
+    Json near = Json::array();
+    for (std::size_t k : r.polylines_near_defects) near.push_back(k + 1);
+    j["polylines_near_defects"] = near;
     j["remaining_folds"] = r.remaining_folds;
   }
   j["coarse_affine_determinant"] = number(r.coarse_affine_determinant);
@@ -1519,8 +1522,14 @@ int run_fit(const Command_line& cl) {
   if (attributes && failure.message.empty()) take_fitted_attributes(in.tm, td, maps, out);
   const std::vector<std::string> problems = r.verification.problems();
   const bool completed = failure.message.empty();
-  if (completed && !problems.empty() && !cl.allow_defects)
-    failure.message = "the result failed verification: " + problem_list(problems) + " (--allow-defects writes it anyway)";
+  if (completed && !problems.empty() && !cl.allow_defects) {
+    failure.message = "the result failed verification: " + problem_list(problems);
+    // Faces the fine level left turned over or folded: where, and what to change.
+    const meshfit::Deformation_report& dr = r.deformation;
+    if (dr.fine_level == meshfit::Fine_level::surface && (dr.remaining_flips > 0 || dr.remaining_folds > 0))
+      failure.message += "; " + meshfit::remaining_defects_advice(dr);
+    failure.message += " (--allow-defects writes it anyway)";
+  }
 
   write_report(report_path, fit_report(cl, r, failure, completed, problems, in.read_seconds, out));
   progress_display.finish();

@@ -264,15 +264,6 @@ double mean_edge_length(const TriangleMesh& tm, const VPM& vpm) {
   return num_edges(tm) > 0 ? length / static_cast<double>(num_edges(tm)) : 0;
 }
 
-/// "polyline 3" or "polylines 1, 4, 7" (1-based, in file order), at most ten named.
-inline std::string name_polylines(const std::vector<std::size_t>& polylines) {
-  std::ostringstream os;
-  os << (polylines.size() == 1 ? "polyline " : "polylines ");
-  for (std::size_t k = 0; k < polylines.size() && k < 10; ++k) os << (k ? ", " : "") << polylines[k] + 1;
-  if (polylines.size() > 10) os << " and " << polylines.size() - 10 << " more";
-  return os.str();
-}
-
 /// \throws Algorithm_failure naming the polylines all of whose points are far from the surface
 ///         (`distance(v)`, the distance of network vertex v from it, more than a tenth of
 ///         `size`, the template's bounding-box diagonal): no fine level can bring them onto it,

@@ -366,19 +366,26 @@ inline Deformation_report fine_on_cut_network(Work_mesh& tm, const Curve_network
                                               const Deform_options& options, bool split_for_paths,
                                               std::optional<Work_face_tree> tree = std::nullopt,
                                               const std::vector<double>* template_bending = nullptr) {
-  if (cut.added == 0) return fine_on_surface(tm, network, pairs, options, split_for_paths, std::move(tree), template_bending);
   Deformation_report r =
-      fine_on_surface(tm, cut.network, cut_pairs, options, split_for_paths, std::move(tree), template_bending);
-  r.network_points_added = cut.added;
-  std::vector<std::size_t> mesh_of(network.number_of_vertices());
-  for (std::size_t v = 0; v < mesh_of.size(); ++v) mesh_of[v] = r.mesh_vertex_of_network_vertex[cut.vertex_of[v]];
-  r.mesh_vertex_of_network_vertex = std::move(mesh_of);
-  std::vector<std::size_t> missing;
-  for (std::size_t k : r.segments_not_embedded) missing.push_back(cut.segment_of[k]);
-  std::sort(missing.begin(), missing.end());
-  missing.erase(std::unique(missing.begin(), missing.end()), missing.end());
-  r.segments_not_embedded = std::move(missing);
-  r.segments_embedded = network.number_of_segments() - r.segments_not_embedded.size();
+      cut.added == 0
+          ? fine_on_surface(tm, network, pairs, options, split_for_paths, std::move(tree), template_bending)
+          : fine_on_surface(tm, cut.network, cut_pairs, options, split_for_paths, std::move(tree), template_bending);
+  if (cut.added > 0) {
+    r.network_points_added = cut.added;
+    std::vector<std::size_t> mesh_of(network.number_of_vertices());
+    for (std::size_t v = 0; v < mesh_of.size(); ++v) mesh_of[v] = r.mesh_vertex_of_network_vertex[cut.vertex_of[v]];
+    r.mesh_vertex_of_network_vertex = std::move(mesh_of);
+    // Segments of the cut network, as the user's segments they are pieces of.
+    auto uncut = [&](std::vector<std::size_t>& segments) {
+      for (std::size_t& k : segments) k = cut.segment_of[k];
+      std::sort(segments.begin(), segments.end());
+      segments.erase(std::unique(segments.begin(), segments.end()), segments.end());
+    };
+    uncut(r.segments_not_embedded);
+    uncut(r.segments_near_defects);
+    r.segments_embedded = network.number_of_segments() - r.segments_not_embedded.size();
+  }
+  r.polylines_near_defects = network.polylines_of_segments(r.segments_near_defects);
   return r;
 }
 

@@ -13,12 +13,23 @@
 
 #include <chrono>
 #include <cstddef>
+#include <sstream>
 #include <string>
 #include <type_traits>
 #include <utility>
+#include <vector>
 
 namespace meshfit {
 namespace internal {
+
+/// "polyline 3" or "polylines 1, 4, 7" (1-based, in file order), at most ten named.
+inline std::string name_polylines(const std::vector<std::size_t>& polylines) {
+  std::ostringstream os;
+  os << (polylines.size() == 1 ? "polyline " : "polylines ");
+  for (std::size_t k = 0; k < polylines.size() && k < 10; ++k) os << (k ? ", " : "") << polylines[k] + 1;
+  if (polylines.size() > 10) os << " and " << polylines.size() - 10 << " more";
+  return os.str();
+}
 
 inline double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
