@@ -1524,9 +1524,14 @@ int run_fit(const Command_line& cl) {
   const bool completed = failure.message.empty();
   if (completed && !problems.empty() && !cl.allow_defects) {
     failure.message = "the result failed verification: " + problem_list(problems);
-    // Faces the fine level left turned over or folded: where, and what to change.
+    // A result turned over, folded or intersecting itself where the fine level left faces turned
+    // over or folded: where those are, and what to change.
     const meshfit::Deformation_report& dr = r.deformation;
-    if (dr.fine_level == meshfit::Fine_level::surface && (dr.remaining_flips > 0 || dr.remaining_folds > 0))
+    const meshfit::Fit_verification& v = r.verification;
+    const bool tangled = v.flips_remaining > 0 || v.folded_edges > v.template_folded_edges ||
+                         (v.self_intersects && !v.template_self_intersects) ||
+                         v.self_intersecting_pairs > v.template_self_intersecting_pairs;
+    if (tangled && dr.fine_level == meshfit::Fine_level::surface && (dr.remaining_flips > 0 || dr.remaining_folds > 0))
       failure.message += "; " + meshfit::remaining_defects_advice(dr);
     failure.message += " (--allow-defects writes it anyway)";
   }
