@@ -320,6 +320,29 @@ TEST_CASE("fit: an open grid onto a saddle whose boundary is in the network foll
   CHECK(worst < 0.01 * diagonal);
 }
 
+namespace {
+// A battery case kept in test/data (its truth left out), read with meshfit's readers; `check`
+// scores a fit of it with the shared oracle, which reads the curves again with its own reader.
+struct Data_case {
+  std::string dir;
+  Mesh tm;
+  meshfit::Curve_network network;
+  std::vector<meshfit::Correspondence> pairs;
+  fit_oracle::Fit_check check(const Mesh& fitted, std::size_t regions) const {
+    return fit_oracle::check_fit(fitted, tm, fit_oracle::network_of(fit_oracle::read_polylines(dir + "/curves.polylines.txt")),
+                                 regions);
+  }
+};
+Data_case load_data_case(const std::string& name) {
+  const std::string dir = MESHFIT_TEST_DATA_DIR "/" + name;
+  Mesh tm;
+  meshfit::read_triangle_mesh(dir + "/template.off", tm);
+  Data_case c{dir, tm, meshfit::read_curve_network(dir + "/curves.polylines.txt"), {}};
+  c.pairs = meshfit::read_correspondences(dir + "/pairs.txt", c.network);
+  return c;
+}
+}  // namespace
+
 TEST_CASE("fit: an open template onto a wave whose boundary is in the network keeps its border on the curves",
           "[fit][open]") {
   // The battery's open-plane-wave-boundary (test/data/open-plane-wave-boundary/README.md): CGAL's
@@ -328,15 +351,10 @@ TEST_CASE("fit: an open template onto a wave whose boundary is in the network ke
   // flared out past the network's corners: 11 regions, and fit's own verification, which cannot
   // know the count once a border cycle is only partly on curves, let it through. Oracle: the
   // shared one, with the 9 regions the network bounds.
-  const std::string dir = MESHFIT_TEST_DATA_DIR "/open-plane-wave-boundary";
-  Mesh tm;
-  meshfit::read_triangle_mesh(dir + "/template.off", tm);
-  const Mesh template_mesh = tm;
-  const meshfit::Curve_network network = meshfit::read_curve_network(dir + "/curves.polylines.txt");
-  const auto pairs = meshfit::read_correspondences(dir + "/pairs.txt", network);
-  meshfit::fit_template_to_curves(tm, network, pairs);
-  const fit_oracle::Fit_check check = fit_oracle::check_fit(
-      tm, template_mesh, fit_oracle::network_of(fit_oracle::read_polylines(dir + "/curves.polylines.txt")), 9);
+  const Data_case c = load_data_case("open-plane-wave-boundary");
+  Mesh tm = c.tm;
+  meshfit::fit_template_to_curves(tm, c.network, c.pairs);
+  const fit_oracle::Fit_check check = c.check(tm, 9);
   INFO(meshfit_test::describe(check));
   CHECK(check.passed());
 }
@@ -348,13 +366,10 @@ TEST_CASE("fit: Fine_shape::automatic falls back to the approach's shape when th
   // after every start (measured: 11); the default shape, which resolves to the bending here (the
   // curves are no denser than the template's edges), must then try the approach's shape, which
   // leaves none. Oracle: the shared one, with the 9 regions the network bounds.
-  const std::string dir = MESHFIT_TEST_DATA_DIR "/open-patch-01-wave-boundary";
-  Mesh tm;
-  meshfit::read_triangle_mesh(dir + "/template.off", tm);
-  const Mesh template_mesh = tm;
-  const meshfit::Curve_network network = meshfit::read_curve_network(dir + "/curves.polylines.txt");
-  const auto pairs = meshfit::read_correspondences(dir + "/pairs.txt", network);
-  Mesh bent = tm;
+  const Data_case c = load_data_case("open-patch-01-wave-boundary");
+  const meshfit::Curve_network& network = c.network;
+  const auto& pairs = c.pairs;
+  Mesh tm = c.tm, bent = c.tm;
   const auto forced = meshfit::deform_template(bent, network, pairs,
                                                meshfit::parameters::fine_shape(meshfit::Fine_shape::template_bending));
   CHECK(forced.fine_shape == meshfit::Fine_shape::template_bending);
@@ -370,8 +385,7 @@ TEST_CASE("fit: Fine_shape::automatic falls back to the approach's shape when th
   // the result no more, so the fit passes.)
   CHECK(r.deformation.polylines_near_defects.empty() == (r.deformation.remaining_flips + r.deformation.remaining_folds == 0));
   CHECK(r.deformation.displacement.held_beyond_band == 0);
-  const fit_oracle::Fit_check check = fit_oracle::check_fit(
-      tm, template_mesh, fit_oracle::network_of(fit_oracle::read_polylines(dir + "/curves.polylines.txt")), 9);
+  const fit_oracle::Fit_check check = c.check(tm, 9);
   INFO(meshfit_test::describe(check));
   CHECK(check.passed());
 }
