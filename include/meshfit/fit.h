@@ -64,6 +64,16 @@ struct Fit_verification {
   std::size_t expected_regions = 0;     ///< see regions
   bool expected_regions_known = false;  ///< expected_regions holds a value (see regions)
 
+  /// More folded edges than the template has.
+  bool adds_folds() const { return folded_edges > template_folded_edges; }
+  /// The result intersects itself where the template does not, or in more pairs of faces.
+  bool adds_self_intersections() const {
+    return (self_intersects && !template_self_intersects) ||
+           (template_self_intersects && self_intersecting_pairs > template_self_intersecting_pairs);
+  }
+  /// Faces turned over, new folds or new self-intersections: the result is tangled.
+  bool tangled() const { return flips_remaining > 0 || adds_folds() || adds_self_intersections(); }
+
   /// What is wrong, one sentence each; empty when everything holds.
   std::vector<std::string> problems() const {
     std::vector<std::string> p;
@@ -74,7 +84,7 @@ struct Fit_verification {
       p.push_back(n(segments_not_chains) + " of " + n(segments) + " segments are not chains of mesh edges");
     if (flips_remaining) p.push_back(n(flips_remaining) + " faces flipped in the deformation");
     if (degenerate_faces) p.push_back(n(degenerate_faces) + " faces have zero area");
-    if (folded_edges > template_folded_edges)
+    if (adds_folds())
       p.push_back(n(folded_edges) + " folded edges (the template has " + n(template_folded_edges) + ")");
     if (self_intersects && !template_self_intersects) p.push_back("the result intersects itself (the template does not)");
     if (template_self_intersects && self_intersecting_pairs > template_self_intersecting_pairs)

@@ -1527,11 +1527,8 @@ int run_fit(const Command_line& cl) {
     // A result turned over, folded or intersecting itself where the fine level left faces turned
     // over or folded: where those are, and what to change.
     const meshfit::Deformation_report& dr = r.deformation;
-    const meshfit::Fit_verification& v = r.verification;
-    const bool tangled = v.flips_remaining > 0 || v.folded_edges > v.template_folded_edges ||
-                         (v.self_intersects && !v.template_self_intersects) ||
-                         v.self_intersecting_pairs > v.template_self_intersecting_pairs;
-    if (tangled && dr.fine_level == meshfit::Fine_level::surface && (dr.remaining_flips > 0 || dr.remaining_folds > 0))
+    if (r.verification.tangled() && dr.fine_level == meshfit::Fine_level::surface &&
+        (dr.remaining_flips > 0 || dr.remaining_folds > 0))
       failure.message += "; " + meshfit::remaining_defects_advice(dr);
     failure.message += " (--allow-defects writes it anyway)";
   }

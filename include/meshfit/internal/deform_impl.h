@@ -112,12 +112,12 @@ struct Deform_state {
   /// those beside a face of zero area, which has no normal.
   std::vector<bool> sharp_edges(const std::vector<Point_3>& positions) const {
     std::vector<bool> sharp(num_edges(tm), false);
+    auto at = [&](vertex_descriptor v) -> const Point_3& { return positions[get(index, v)]; };
     std::size_t k = 0;
     for (auto e : edges(tm)) {
       const std::size_t ek = k++;
       const auto h = halfedge(e, tm), g = opposite(h, tm);
       if (is_border(h, tm) || is_border(g, tm)) continue;
-      auto at = [&](vertex_descriptor v) -> const Point_3& { return positions[get(index, v)]; };
       const Point_3 &a = at(source(h, tm)), &b = at(target(h, tm));
       const Point_3 &c = at(target(next(h, tm), tm)), &d = at(target(next(g, tm), tm));
       sharp[ek] = CGAL::collinear(a, b, c) || CGAL::collinear(a, b, d) ||
