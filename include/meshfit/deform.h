@@ -152,7 +152,8 @@ struct Deformation_report {
   std::size_t network_points_added = 0;
   /// Steps of midpoint subdivision of the template before the coarse level (deform_template),
   /// each splitting every face into four: a template with fewer than twice as many vertices as
-  /// the network leaves the curves no free vertex between them.
+  /// the network leaves the curves no free vertex between them, and one with fewer than 40 free
+  /// vertices for each region the network bounds gives the regions no shape of their own.
   std::size_t template_subdivisions = 0;
   std::size_t segments_embedded = 0;        ///< as edge chains of the coarse surface
   /// Of those (or of their pieces, when cut), where stage 2's insertion could not.
@@ -596,7 +597,8 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
 /// Both levels: deform_coarse then the fine level (unless the named parameter `coarse_only` is
 /// true): deform_fine_on_surface, or deform_fine with `fine_level(Fine_level::thesis)`.
 /// With the surface fine level and Curve_density::refine (the defaults), a template with fewer
-/// than twice as many vertices as the network is first subdivided at its edges' midpoints (every
+/// than twice as many vertices as the network, or fewer than the network's vertices plus 40 for
+/// every region it bounds (independent cycles + 1), is first subdivided at its edges' midpoints (every
 /// face into four; at most three times, to at most 2e6 faces; `template_subdivisions`): the
 /// template's vertices keep their indices, the new ones come after them.
 /// The report holds the figures of both. When the coarse level reverses the orientation (pairs

@@ -544,7 +544,7 @@ Deformation_report deform_template_unscaled(TriangleMesh& tm, const Curve_networ
   const Fine_level level = options.fine_level;
   const Curve_density density = options.curve_density;
   // The surface fine level gives every network vertex a mesh vertex and needs free vertices
-  // between the curves: a template with fewer than twice the network's vertices is subdivided
+  // between the curves: a template with fewer than wanted_template_vertices is subdivided
   // (before the coarse level, so that the new vertices follow the RBF rather than the chords),
   // at most three times and to at most max_subdivided_faces faces.
   std::size_t subdivisions = 0;
@@ -560,7 +560,7 @@ Deformation_report deform_template_unscaled(TriangleMesh& tm, const Curve_networ
   if (surface_refined) {
     // Before the subdivision, whose new vertices would make an out-of-range template index valid.
     check_pairs(pairs, num_vertices(tm), num_faces(tm), network);
-    while (subdivisions < 3 && num_vertices(tm) < 2 * network.number_of_vertices() &&
+    while (subdivisions < 3 && static_cast<double>(num_vertices(tm)) < wanted_template_vertices(network) &&
            4 * num_faces(tm) <= max_subdivided_faces) {
       subdivide_at_midpoints(tm, get_property_map(CGAL::vertex_point, tm));
       ++subdivisions;
