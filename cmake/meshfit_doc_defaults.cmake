@@ -54,7 +54,7 @@ function(meshfit_doc_defaults source_dir)
   endforeach()
   # The ones the headers use must all be there.
   foreach(name default_flip_prevention_rounds default_rbf_kernel default_curve_density default_fine_level
-               default_coarse_only default_memory_limit default_fit_check_self_intersections default_flow_step default_flow_weights default_flow_variant
+               default_coarse_only default_coarse_registration default_memory_limit default_fit_check_self_intersections default_flow_step default_flow_weights default_flow_variant
                default_flow_alpha default_smoothing_iterations default_laplacian_flow_iterations
                default_mean_curvature_flow_iterations default_modified_mean_curvature_flow_iterations
                default_modified_laplacian_flow_iterations default_smoothing_tolerance)

@@ -23,6 +23,7 @@
 #include <meshfit/parameters.h>
 #include <meshfit/partition.h>
 #include <meshfit/rbf.h>
+#include <meshfit/registration.h>
 
 #include <CGAL/Named_function_parameters.h>
 
@@ -117,6 +118,11 @@ struct Deformation_report {
   /// The affine part mirrors space (det R ≤ 0): the pairs reverse the template's orientation.
   bool orientation_reversed = false;
   std::size_t degenerate_faces_skipped = 0;  ///< zero-area faces before the fine motion: not judged
+  /// Fine_level::surface: the kept result started from the template warped onto the curves as a
+  /// whole (register_quadratic_warp), the second start tried when the first left defects.
+  bool coarse_registered = false;
+  /// That registration's figures, when it ran (iterations 0 when it did not).
+  Registration_report registration;
   // fine level
   bool fine_done = false;  ///< the fine level ran
   std::size_t fine_pairs = 0;              ///< pairs of the final fine RBF (user + closest point + refined)
@@ -238,6 +244,7 @@ struct Deform_options {
   Curve_density curve_density = Curve_density::refine;   ///< `curve_density`
   Fine_level fine_level = Fine_level::surface;           ///< `fine_level`
   Fine_shape fine_shape = Fine_shape::automatic;         ///< `fine_shape`
+  bool coarse_registration = true;                       ///< `coarse_registration` (deform_template)
   bool coarse_only = false;                              ///< `coarse_only` (deform_template)
   std::size_t flip_prevention_rounds = 10;               ///< `flip_prevention_rounds`
   std::size_t memory_limit = 0;                          ///< `memory_limit`; 0: default_memory_limit()
@@ -256,6 +263,7 @@ Deform_options deform_options(const NamedParameters& np) {
   o.curve_density = choose_parameter(get_parameter(np, internal_np::curve_density), o.curve_density);
   o.fine_level = choose_parameter(get_parameter(np, internal_np::fine_level), o.fine_level);
   o.fine_shape = choose_parameter(get_parameter(np, internal_np::fine_shape), o.fine_shape);
+  o.coarse_registration = choose_parameter(get_parameter(np, internal_np::coarse_registration), o.coarse_registration);
   o.coarse_only = choose_parameter(get_parameter(np, internal_np::coarse_only), o.coarse_only);
   const auto rounds = choose_parameter(get_parameter(np, internal_np::flip_prevention_rounds), o.flip_prevention_rounds);
   static_assert(std::is_integral_v<std::decay_t<decltype(rounds)>>, "meshfit: flip_prevention_rounds must be an integer");
@@ -273,6 +281,7 @@ inline auto deform_parameters(const Deform_options& o) {
       .curve_density(o.curve_density)
       .fine_level(o.fine_level)
       .fine_shape(o.fine_shape)
+      .coarse_registration(o.coarse_registration)
       .coarse_only(o.coarse_only)
       .flip_prevention_rounds(o.flip_prevention_rounds)
       .memory_limit(o.memory_limit)
@@ -642,6 +651,13 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
 ///     \cgalParamDescription{the method of the fine level}
 ///     \cgalParamType{meshfit::Fine_level}
 ///     \cgalParamDefault{\default_fine_level (deform_fine_on_surface; `Fine_level::thesis`: deform_fine)}
+///   \cgalParamNEnd
+///   \cgalParamNBegin{coarse_registration}
+///     \cgalParamDescription{when `Fine_level::surface` leaves defects (segments not embedded, faces turned over or
+///       folded), run the levels again from the template warped onto the curves as a whole
+///       (register_quadratic_warp, registration.h) and keep the result with fewer defects}
+///     \cgalParamType{`bool`}
+///     \cgalParamDefault{\default_coarse_registration}
 ///   \cgalParamNEnd
 ///   \cgalParamNBegin{fine_shape}
 ///     \cgalParamDescription{where `Fine_level::surface` takes the shape between the curves from (deform_template, deform_fine_on_surface)}

@@ -239,6 +239,13 @@ struct Fit_report {
 ///     \cgalParamType{meshfit::Fine_level}
 ///     \cgalParamDefault{\default_fine_level}
 ///   \cgalParamNEnd
+///   \cgalParamNBegin{coarse_registration}
+///     \cgalParamDescription{when `Fine_level::surface` leaves defects (segments not embedded, faces turned over or
+///       folded), run the levels again from the template warped onto the curves as a whole
+///       (register_quadratic_warp, registration.h) and keep the result with fewer defects}
+///     \cgalParamType{`bool`}
+///     \cgalParamDefault{\default_coarse_registration}
+///   \cgalParamNEnd
 ///   \cgalParamNBegin{fine_shape}
 ///     \cgalParamDescription{where `Fine_level::surface` takes the shape between the curves from}
 ///     \cgalParamType{meshfit::Fine_shape}

@@ -32,6 +32,7 @@
 /// | `check_self_intersections` | `bool`: fit's final verification | \default_fit_check_self_intersections | fit_template_to_curves |
 /// | `fine_level` | meshfit::Fine_level (deform.h) | \default_fine_level | deform_template, fit_template_to_curves |
 /// | `fine_shape` | meshfit::Fine_shape (deform.h): the shape between the curves that Fine_level::surface gives | \default_fine_shape | deform_fine_on_surface, deform_template, fit_template_to_curves |
+/// | `coarse_registration` | `bool`: a second start from the template warped onto the curves (registration.h) when Fine_level::surface leaves defects | \default_coarse_registration | deform_template, fit_template_to_curves |
 /// | `memory_limit` | `std::size_t`, bytes (memory_limit.h) | default_memory_limit(): RAM / 8, at most 2 GiB (also when 0) | the coarse level's RBF and deform_fine's (so deform_coarse, deform_template and fit_template_to_curves) |
 /// | `flip_prevention_rounds` | integer ≥ 0: the most rounds of flip prevention (thesis level) or untangling (surface level) | \default_flip_prevention_rounds | deform_fine, deform_fine_on_surface, deform_template, fit_template_to_curves |
 /// | `number_of_threads` | integer ≥ 1: the most threads (OpenMP's and OpenBLAS's) the call uses; put back after it (threads.h) | unchanged: every core, or OMP_NUM_THREADS / set_number_of_threads() | every stage but project_segment |
@@ -88,6 +89,7 @@ using Progress_callback = std::function<bool(const Progress_step&)>;
   X(check_self_intersections)       \
   X(fine_level)                     \
   X(fine_shape)                     \
+  X(coarse_registration)            \
   X(memory_limit)                   \
   X(flip_prevention_rounds)         \
   X(number_of_threads)

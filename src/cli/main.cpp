@@ -66,6 +66,7 @@ struct Command_line {
   bool coarse_only = false;
   bool allow_defects = false;
   bool no_self_intersection_check = false;
+  bool no_registration = false;
   bool curves_in_mesh = false;
 };
 
@@ -108,6 +109,8 @@ const Option_spec option_specs[] = {
                           "metric: Laplacian editing) or auto (template, unless the curves are sampled more "
                           "densely than the template's edges: approach; approach also when every start "
                           "leaves defects with the template's bending)"},
+    {"--no-registration", nullptr, "no second start from the template warped onto the curves as a whole (a quadratic "
+                                   "map fitted by Coherent Point Drift) when the surface fine level leaves defects"},
     {"--max-rounds", "N", "flip prevention (thesis) or untangling (surface) rounds at most"},
     {"--max-memory", "SIZE", "refuse (exit 3, with the estimate) work whose largest allocation, a dense RBF "
                              "system or reading an input (10 times its size), would exceed SIZE (2G, 512M; "
@@ -133,7 +136,7 @@ struct Command_spec {
 
 const std::vector<Command_spec>& command_specs() {
   static const std::vector<const char*> deform_opts{"--kernel", "--curve-density", "--fine-level", "--fine-shape", "--max-rounds",
-                                                    "--max-memory"};
+                                                    "--max-memory", "--no-registration"};
   static const std::vector<const char*> smooth_opts{"--iterations", "--mc-iterations", "--laplacian-iterations",
                                                     "--step", "--smooth-tolerance"};
   auto join = [](std::vector<const char*> a, const std::vector<const char*>& b) {
@@ -336,6 +339,7 @@ class Cli_parser {
     cl.coarse_only = m_flags[cl.command + " --coarse-only"];
     cl.allow_defects = m_flags[cl.command + " --allow-defects"];
     cl.no_self_intersection_check = m_flags[cl.command + " --no-self-intersection-check"];
+    cl.no_registration = m_flags[cl.command + " --no-registration"];
     cl.curves_in_mesh = m_flags[cl.command + " --curves-in-mesh"];
     if (cl.command == "view") pair_results(*sub, cl);
     return cl;
@@ -802,6 +806,12 @@ Json json_fine_level(const meshfit::Deformation_report& r) {
     for (std::size_t k : r.polylines_near_defects) near.push_back(k + 1);
     j["polylines_near_defects"] = near;
     j["remaining_folds"] = r.remaining_folds;
+    j["coarse_registered"] = r.coarse_registered;
+    j["registration_iterations"] = r.registration.iterations;
+    j["registration_turns_over"] = r.registration.turns_over;
+    const bool registered = r.registration.iterations > 0;
+    j["registration_distance_before"] = registered ? number(r.registration.mean_distance_before) : Json(nullptr);
+    j["registration_distance_after"] = registered ? number(r.registration.mean_distance_after) : Json(nullptr);
   }
   j["coarse_affine_determinant"] = number(r.coarse_affine_determinant);
   return j;
@@ -848,6 +858,7 @@ meshfit::Deform_options deform_options(const Command_line& cl) {
               {"approach", meshfit::Fine_shape::approach},
               {"template", meshfit::Fine_shape::template_bending}},
              o.fine_shape);
+  o.coarse_registration = !cl.no_registration;
   if (cl.values.count("--max-rounds")) {
     const std::string& r = cl.values.at("--max-rounds");
     char* end = nullptr;

@@ -6,6 +6,7 @@
 
 #include <meshfit/deform.h>
 #include <meshfit/predicates.h>
+#include <meshfit/registration.h>
 #include <meshfit/internal/clear_mesh.h>
 #include <meshfit/internal/deform_impl.h>
 #include <meshfit/internal/resample_network.h>
@@ -536,6 +537,38 @@ inline std::vector<double> template_bending_after_coarse(const Mesh_snapshot& sh
   return bending;
 }
 
+/// The defects Fine_level::surface left: segments not embedded, faces turned over or folded.
+inline std::size_t fine_defects(const Deformation_report& r) {
+  return r.segments_not_embedded.size() + r.remaining_flips + r.remaining_folds;
+}
+
+/// Moves `tm`'s points by register_quadratic_warp onto the network (its vertices on faces, the
+/// user's pairs as constraints). False, `tm` unchanged, when no warp was found or it would turn
+/// space over at a vertex.
+template <typename TriangleMesh>
+bool register_template(TriangleMesh& tm, const Curve_network& network, const std::vector<Correspondence>& pairs,
+                       Registration_report& report) {
+  const auto vpm = get_property_map(CGAL::vertex_point, tm);
+  std::vector<typename boost::graph_traits<TriangleMesh>::vertex_descriptor> vertex(vertices(tm).first,
+                                                                                     vertices(tm).second);
+  std::vector<Point_3> on_faces, network_points;
+  for (auto v : vertex)
+    if (halfedge(v, tm) != boost::graph_traits<TriangleMesh>::null_halfedge()) on_faces.push_back(point_of<TriangleMesh>(vpm, v));
+  for (std::size_t k = 0; k < network.number_of_vertices(); ++k) network_points.push_back(network.point(k));
+  std::vector<std::pair<Point_3, Point_3>> fixed;
+  for (const Correspondence& c : pairs)
+    fixed.emplace_back(point_of<TriangleMesh>(vpm, vertex[c.template_vertex]), network.point(c.network_vertex));
+  const std::optional<Quadratic_warp> warp = register_quadratic_warp(on_faces, network_points, fixed, &report);
+  if (!warp) return false;
+  using P = typename boost::property_traits<decltype(vpm)>::value_type;
+  for (auto v : vertex)
+    if (halfedge(v, tm) != boost::graph_traits<TriangleMesh>::null_halfedge()) {
+      const Point_3 q = (*warp)(point_of<TriangleMesh>(vpm, v));
+      put(vpm, v, P(q.x(), q.y(), q.z()));
+    }
+  return true;
+}
+
 /// deform_template on the inputs as they are.
 template <typename TriangleMesh>
 Deformation_report deform_template_unscaled(TriangleMesh& tm, const Curve_network& network,
@@ -567,28 +600,57 @@ Deformation_report deform_template_unscaled(TriangleMesh& tm, const Curve_networ
     }
   }
   if (level == Fine_level::thesis && !coarse_only) check_fine_rbf_memory(network, options);  // before any work
-  Deformation_report coarse = deform_coarse_impl(tm, network, pairs, options);
-  coarse.template_subdivisions = subdivisions;
-  if (coarse.orientation_reversed || coarse_only) return coarse;
-  if (surface_refined) refuse_oversampled_curves(tm, get_property_map(CGAL::vertex_point, tm), network, subdivisions);
-  // Fine_shape::automatic is resolved on the coarse surface, against the template's edges before
-  // the subdivision (deform_fine_on_surface_impl resolves it the same way).
-  if (resolved_fine_shape(options.fine_shape, tm, get_property_map(CGAL::vertex_point, tm), network, subdivisions) !=
-      Fine_shape::template_bending)
-    shape.reset();
-  std::vector<double> bending;  // empty unless Fine_shape::template_bending
-  if (shape) bending = template_bending_after_coarse(*shape, Mesh_snapshot::of(tm, get_property_map(CGAL::vertex_point, tm)));
-  Deformation_report fine =
-      level == Fine_level::surface
-          ? deform_fine_on_surface_impl(tm, network, pairs, options, shape ? &bending : nullptr, subdivisions)
-          : deform_fine_impl(tm, network, pairs, options);
-  fine.coarse_fit = coarse.coarse_fit;
-  fine.coarse_seconds = coarse.coarse_seconds;
-  fine.coarse_flipped_faces = coarse.coarse_flipped_faces;
-  fine.orientation_reversed = coarse.orientation_reversed;
-  fine.coarse_affine_determinant = coarse.coarse_affine_determinant;
-  fine.template_subdivisions = subdivisions;
-  return fine;
+  // The surface level's second start (registration.h) begins from the template as it is now.
+  const auto vpm = get_property_map(CGAL::vertex_point, tm);
+  std::optional<Mesh_snapshot> second_start;
+  if (level == Fine_level::surface && !coarse_only && options.coarse_registration)
+    second_start = Mesh_snapshot::of(tm, vpm);
+  // The coarse level, then the fine level, on `m`.
+  auto levels = [&](TriangleMesh& m) {
+    Deformation_report coarse = deform_coarse_impl(m, network, pairs, options);
+    coarse.template_subdivisions = subdivisions;
+    if (coarse.orientation_reversed || coarse_only) return coarse;
+    if (surface_refined) refuse_oversampled_curves(m, get_property_map(CGAL::vertex_point, m), network, subdivisions);
+    // Fine_shape::automatic is resolved on the coarse surface, against the template's edges before
+    // the subdivision (deform_fine_on_surface_impl resolves it the same way).
+    const bool bent = shape && resolved_fine_shape(options.fine_shape, m, get_property_map(CGAL::vertex_point, m),
+                                                   network, subdivisions) == Fine_shape::template_bending;
+    std::vector<double> bending;  // empty unless Fine_shape::template_bending
+    if (bent) bending = template_bending_after_coarse(*shape, Mesh_snapshot::of(m, get_property_map(CGAL::vertex_point, m)));
+    Deformation_report fine =
+        level == Fine_level::surface
+            ? deform_fine_on_surface_impl(m, network, pairs, options, bent ? &bending : nullptr, subdivisions)
+            : deform_fine_impl(m, network, pairs, options);
+    fine.coarse_fit = coarse.coarse_fit;
+    fine.coarse_seconds = coarse.coarse_seconds;
+    fine.coarse_flipped_faces = coarse.coarse_flipped_faces;
+    fine.orientation_reversed = coarse.orientation_reversed;
+    fine.coarse_affine_determinant = coarse.coarse_affine_determinant;
+    fine.template_subdivisions = subdivisions;
+    return fine;
+  };
+  Deformation_report report = levels(tm);
+  if (!second_start || report.orientation_reversed || fine_defects(report) == 0) return report;
+  // Defects left: a second start from the template warped onto the curves as a whole
+  // (register_template), which the RBF through the pairs then finishes; the result with fewer
+  // defects is kept (the first on a tie).
+  const Mesh_snapshot first = Mesh_snapshot::of(tm, vpm);
+  second_start->restore(tm, vpm);
+  Registration_report registration;
+  if (!register_template(tm, network, pairs, registration)) {
+    first.restore(tm, vpm);
+    report.registration = registration;
+    return report;
+  }
+  Deformation_report second = levels(tm);
+  second.coarse_registered = true;
+  second.registration = registration;
+  if (second.orientation_reversed || fine_defects(second) >= fine_defects(report)) {
+    first.restore(tm, vpm);
+    report.registration = registration;
+    return report;
+  }
+  return second;
 }
 
 /// deform_template on `tm` itself: the mesh changes as the work goes (a cancel or a failure leaves it
