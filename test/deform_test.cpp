@@ -6,7 +6,6 @@
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
 #include <CGAL/Polyhedron_3.h>
-#include <CGAL/Polygon_mesh_processing/bbox.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/boost/graph/graph_traits_Polyhedron_3.h>
 #include <CGAL/boost/graph/properties_Polyhedron_3.h>
@@ -975,51 +974,32 @@ TEST_CASE("deform: sharp edges are those whose faces' normals are 60 degrees apa
 
 namespace meshfit_deform_test {
 
-// The battery's real-pig (test/data/real-pig/README.md): CGAL's pig onto 4 plane sections of a
-// bent, twisted and anisotropically scaled copy of itself, 8 pairs at crossings. The RBF through
-// the pairs leaves the network's loops far from where they belong on the template (the truth,
-// the copy itself, is 13 % of its diagonal from the coarse surface at worst), and the fine level
-// leaves folds. The second start, from the template warped onto the curves as a whole, leaves
-// fewer by the level's own count, and its template vertices lie nearer to their places in the
-// truth. Oracles of the test's own: each template vertex against the same vertex of the truth,
-// and the folded edges (adjacent faces more than 90 degrees apart) counted by fit_oracle.
+// The battery's ico2562-onto-pig (test/data/ico2562-onto-pig/README.md): an icosphere around CGAL's
+// pig onto 3 plane sections of the pig, 6 pairs at crossings. After the RBF through the pairs the
+// fine level leaves a face turned over and folds; the second start, from the sphere warped onto
+// the curves as a whole, leaves none turned over and fewer folds, and is kept. Oracle of the
+// test's own (fit_oracle): the folded edges (adjacent faces more than 90 degrees apart), 13 -> 4
+// measured. (What the kept result does not gain here, measured against the pig's surface: faces
+// turned against it 162 -> 236, mean distance 0.76 -> 1.29 % of its diagonal; the sphere cannot
+// take the pig's shape between 3 sections either way.)
 TEST_CASE("deform: when the fine level leaves defects, a second start from the registered template is kept if it leaves fewer",
           "[deform][surface][registration]") {
-  const Example e = load_case(MESHFIT_TEST_DATA_DIR "/real-pig");
-  Mesh truth;
-  meshfit::read_triangle_mesh(MESHFIT_TEST_DATA_DIR "/real-pig/truth.off", truth);
-  REQUIRE(truth.number_of_vertices() == e.tm.number_of_vertices());
-  const CGAL::Bbox_3 box = CGAL::Polygon_mesh_processing::bbox(truth);
-  const double diagonal = std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
-                                    CGAL::square(box.zmax() - box.zmin()));
-  // The mean distance of the template's vertices from their places in the truth, in % of its diagonal.
-  auto mean_error = [&](const Mesh& m) {
-    double sum = 0;
-    for (std::size_t i = 0; i < truth.number_of_vertices(); ++i)
-      sum += std::sqrt(CGAL::squared_distance(m.point(Mesh::Vertex_index(static_cast<Mesh::size_type>(i))),
-                                              truth.point(Mesh::Vertex_index(static_cast<Mesh::size_type>(i)))));
-    return 100 * sum / static_cast<double>(truth.number_of_vertices()) / diagonal;
-  };
+  const Example e = load_case(MESHFIT_TEST_DATA_DIR "/ico2562-onto-pig");
   Mesh once = e.tm, twice = e.tm;
   const meshfit::Deformation_report without =
       meshfit::deform_template(once, e.network, e.pairs, meshfit::parameters::coarse_registration(false));
   const meshfit::Deformation_report with = meshfit::deform_template(twice, e.network, e.pairs);
   CHECK(!without.coarse_registered);
   CHECK(without.registration.iterations == 0);
-  CHECK(without.remaining_flips + without.remaining_folds + without.segments_not_embedded.size() > 0);
+  CHECK(without.remaining_flips > 0);
   REQUIRE(with.coarse_registered);
   CHECK(with.registration.iterations > 0);
   CHECK(!with.registration.turns_over);
   CHECK(with.registration.mean_distance_after < with.registration.mean_distance_before);
-  CHECK(with.remaining_flips + with.remaining_folds + with.segments_not_embedded.size() <
-        without.remaining_flips + without.remaining_folds + without.segments_not_embedded.size());
-  const double error_without = mean_error(once), error_with = mean_error(twice);
-  const long folds_without = fit_oracle::folded_edges(fit_oracle::copy_of(once)),
-             folds_with = fit_oracle::folded_edges(fit_oracle::copy_of(twice));
-  // Measured: 3.05 -> 2.48 %, 35 -> 35 folded edges (the template has some of its own).
-  INFO("mean error " << error_without << " -> " << error_with << " %, folded edges " << folds_without << " -> " << folds_with);
-  CHECK(error_with < 0.9 * error_without);
-  CHECK(folds_with <= folds_without);
+  CHECK(with.segments_not_embedded.empty());
+  CHECK(with.remaining_flips == 0);
+  CHECK(with.remaining_folds < without.remaining_folds);
+  CHECK(fit_oracle::folded_edges(fit_oracle::copy_of(twice)) < fit_oracle::folded_edges(fit_oracle::copy_of(once)));
 }
 
 }  // namespace meshfit_deform_test

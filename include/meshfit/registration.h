@@ -29,8 +29,8 @@ namespace meshfit {
 
 /// x ↦ x + Cᵀ b((x − centre) / scale), b the monomials 1, u₀, u₁, u₂, u₀², u₀u₁, u₀u₂, u₁², u₁u₂, u₂².
 struct Quadratic_warp {
-  Point_3 centre = Point_3(0, 0, 0);
-  double scale = 1;
+  Point_3 centre = Point_3(0, 0, 0);  ///< c, the origin of u
+  double scale = 1;                    ///< s, the unit of u
   std::array<std::array<double, 3>, 10> coefficients{};  ///< C, by monomial (all zero: the identity)
 
   /// W(p).

@@ -537,9 +537,11 @@ inline std::vector<double> template_bending_after_coarse(const Mesh_snapshot& sh
   return bending;
 }
 
-/// The defects Fine_level::surface left: segments not embedded, faces turned over or folded.
-inline std::size_t fine_defects(const Deformation_report& r) {
-  return r.segments_not_embedded.size() + r.remaining_flips + r.remaining_folds;
+/// The defects Fine_level::surface left, worst first: segments not embedded, faces turned over,
+/// faces beside a folded edge (compared in that order: a face turned over fails the fit, a fold
+/// only beyond the template's own).
+inline std::array<std::size_t, 3> fine_defects(const Deformation_report& r) {
+  return {r.segments_not_embedded.size(), r.remaining_flips, r.remaining_folds};
 }
 
 /// Moves `tm`'s points by register_quadratic_warp onto the network (its vertices on faces, the
@@ -630,26 +632,34 @@ Deformation_report deform_template_unscaled(TriangleMesh& tm, const Curve_networ
     return fine;
   };
   Deformation_report report = levels(tm);
-  if (!second_start || report.orientation_reversed || fine_defects(report) == 0) return report;
+  if (!second_start || report.orientation_reversed || fine_defects(report) == std::array<std::size_t, 3>{}) return report;
   // Defects left: a second start from the template warped onto the curves as a whole
   // (register_template), which the RBF through the pairs then finishes; the result with fewer
-  // defects is kept (the first on a tie).
+  // defects (fine_defects' order) is kept, the first on a tie.
   const Mesh_snapshot first = Mesh_snapshot::of(tm, vpm);
   second_start->restore(tm, vpm);
   Registration_report registration;
-  if (!register_template(tm, network, pairs, registration)) {
+  auto keep_first = [&] {
     first.restore(tm, vpm);
     report.registration = registration;
     return report;
+  };
+  if (!register_template(tm, network, pairs, registration)) return keep_first();
+  // A second start that cannot be made (a refusal of the fine level on this start) leaves the
+  // first result; a cancel ends the call.
+  Deformation_report second;
+  try {
+    second = levels(tm);
+  } catch (const Cancelled&) {
+    throw;
+  } catch (const Algorithm_failure&) {
+    return keep_first();
+  } catch (const Numerical_error&) {
+    return keep_first();
   }
-  Deformation_report second = levels(tm);
   second.coarse_registered = true;
   second.registration = registration;
-  if (second.orientation_reversed || fine_defects(second) >= fine_defects(report)) {
-    first.restore(tm, vpm);
-    report.registration = registration;
-    return report;
-  }
+  if (second.orientation_reversed || fine_defects(second) >= fine_defects(report)) return keep_first();
   return second;
 }
 
