@@ -115,24 +115,26 @@ std::optional<Quadratic_warp> register_quadratic_warp(const std::vector<Point_3>
   auto warp_points = [&] {
     for (std::size_t m = 0; m < M; ++m) Y[m] = X[m] + C.transpose() * B[m];
   };
-  auto mean_nearest = [&] {
+  // Each network point's squared distance to its nearest warped template point, and their
+  // roots' mean over the network's RMS radius.
+  auto nearest_squared = [&] {
+    std::vector<double> d(N, std::numeric_limits<double>::infinity());
+    for (std::size_t n = 0; n < N; ++n)
+      for (const Eigen::Vector3d& y : Y) d[n] = std::min(d[n], (Q[n] - y).squaredNorm());
+    return d;
+  };
+  auto mean_distance = [&](const std::vector<double>& d2) {
     double sum = 0;
-    for (const Eigen::Vector3d& q : Q) {
-      double best = std::numeric_limits<double>::infinity();
-      for (const Eigen::Vector3d& y : Y) best = std::min(best, (q - y).squaredNorm());
-      sum += std::sqrt(best);
-    }
+    for (double d : d2) sum += std::sqrt(d);
     return sum / static_cast<double>(N) / sq;
   };
   warp_points();
   Registration_report r;
-  r.mean_distance_before = mean_nearest();
+  const std::vector<double> start = nearest_squared();
+  r.mean_distance_before = mean_distance(start);
+  // The mixture's variance starts at four times the mean squared gap.
   double sigma2 = 0;
-  for (const Eigen::Vector3d& q : Q) {
-    double best = std::numeric_limits<double>::infinity();
-    for (const Eigen::Vector3d& y : Y) best = std::min(best, (q - y).squaredNorm());
-    sigma2 += best;
-  }
+  for (double d : start) sigma2 += d;
   sigma2 = 4 * sigma2 / static_cast<double>(N);
   const double sigma2_floor = 1e-10 * sq * sq;
   sigma2 = std::max(sigma2, sigma2_floor);
@@ -228,7 +230,7 @@ std::optional<Quadratic_warp> register_quadratic_warp(const std::vector<Point_3>
     if (settled) break;
   }
   r.final_sigma = std::sqrt(sigma2) / sq;
-  r.mean_distance_after = mean_nearest();
+  r.mean_distance_after = mean_distance(nearest_squared());
   Quadratic_warp W;
   W.centre = Point_3(c(0), c(1), c(2));
   W.scale = s;
