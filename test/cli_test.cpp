@@ -404,6 +404,34 @@ TEST_CASE("cli: fit names the polylines nearest the faces the fine level left tu
   CHECK(json.find("\"polylines_near_defects\": [\n") != std::string::npos);
 }
 
+TEST_CASE("cli: deform makes the second start from the registered template unless --no-registration", "[cli][deform][registration]") {
+  // The battery's ico2562-onto-pig (test/data/ico2562-onto-pig/README.md): the first start leaves a
+  // face turned over, the second none, and is kept.
+  Temp_dir dir;
+  const std::string d = MESHFIT_TEST_DATA_DIR "/ico2562-onto-pig";
+  const std::string inputs = " --template " + q(d + "/template.off") + " --curves " + q(d + "/curves.polylines.txt") +
+                             " --correspondences " + q(d + "/pairs.txt");
+  for (const bool registration : {true, false}) {
+    const std::string report = dir.file(registration ? "with.json" : "without.json");
+    const Run_result r = run(dir, "deform --quiet" + inputs + " --output " + q(dir.file("o.off")) + " --report " +
+                                      q(report) + (registration ? "" : " --no-registration"));
+    INFO(r.err);
+    const nlohmann::json fine = nlohmann::json::parse(read_text(report))["details"]["fine_level"];
+    CHECK(fine["coarse_registered"] == registration);
+    if (registration) {
+      CHECK(r.status == 0);
+      CHECK(fine["registration_iterations"].get<int>() > 0);
+      CHECK(fine["registration_turns_over"] == false);
+      CHECK(fine["registration_distance_after"].get<double>() < fine["registration_distance_before"].get<double>());
+    } else {
+      CHECK(r.status == 3);  // a face still turned over
+      CHECK(r.err.find("faces still turn over") != std::string::npos);
+      CHECK(fine["registration_iterations"] == 0);
+      CHECK(fine["registration_distance_before"].is_null());
+    }
+  }
+}
+
 TEST_CASE("cli: fit fed each malformed input exits 1, writes no output and a report that says why",
           "[cli][fit][malformed]") {
   for (const Malformed_case& c : malformed_catalogue()) {
