@@ -148,7 +148,8 @@ std::optional<Quadratic_warp> register_quadratic_warp(const std::vector<Point_3>
   std::vector<double> q_x(N);
   for (std::size_t i = 0; i < N; ++i) q_x[i] = Q[q_by_x[i]](0);
   std::vector<Eigen::Vector3d> PX(M);
-  for (r.iterations = 1; r.iterations <= 300; ++r.iterations) {
+  constexpr std::size_t most_iterations = 300;
+  for (r.iterations = 1; r.iterations <= most_iterations; ++r.iterations) {
     // E step: the posteriors of the mixture's centres for each network point, accumulated.
     const double outlier = outlier_weight * std::pow(2 * M_PI * sigma2, 1.5) * static_cast<double>(M) /
                            static_cast<double>(N) / (sq * sq * sq);
@@ -229,6 +230,7 @@ std::optional<Quadratic_warp> register_quadratic_warp(const std::vector<Point_3>
     sigma2 = updated;
     if (settled) break;
   }
+  r.iterations = std::min(r.iterations, most_iterations);  // the loop's count, not one past it
   r.final_sigma = std::sqrt(sigma2) / sq;
   r.mean_distance_after = mean_distance(nearest_squared());
   Quadratic_warp W;
