@@ -610,6 +610,12 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
 /// every region it bounds (independent cycles + 1), is first subdivided at its edges' midpoints (every
 /// face into four; at most three times, to at most 2e6 faces; `template_subdivisions`): the
 /// template's vertices keep their indices, the new ones come after them.
+/// When the surface fine level leaves defects (segments not embedded, faces turned over, folds),
+/// both levels run once more from the (subdivided) template warped onto the curves as a whole
+/// (register_quadratic_warp, registration.h; unless `coarse_registration(false)`), and the second
+/// result is kept when it has fewer defects, compared in that order (`coarse_registered`,
+/// `registration`); a warp that turns space over, or a second start the fine level refuses,
+/// leaves the first result.
 /// The report holds the figures of both. When the coarse level reverses the orientation (pairs
 /// that mirror the template), the fine level is not run: the report says so and the caller
 /// decides (the command line fails with exit status 3).
