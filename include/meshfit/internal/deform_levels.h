@@ -550,24 +550,25 @@ inline std::array<std::size_t, 3> fine_defects(const Deformation_report& r) {
 template <typename TriangleMesh>
 bool register_template(TriangleMesh& tm, const Curve_network& network, const std::vector<Correspondence>& pairs,
                        Registration_report& report) {
+  using GT = boost::graph_traits<TriangleMesh>;
   const auto vpm = get_property_map(CGAL::vertex_point, tm);
-  std::vector<typename boost::graph_traits<TriangleMesh>::vertex_descriptor> vertex(vertices(tm).first,
-                                                                                     vertices(tm).second);
-  std::vector<Point_3> on_faces, network_points;
+  const std::vector<typename GT::vertex_descriptor> vertex(vertices(tm).first, vertices(tm).second);
+  std::vector<typename GT::vertex_descriptor> on_faces;
   for (auto v : vertex)
-    if (halfedge(v, tm) != boost::graph_traits<TriangleMesh>::null_halfedge()) on_faces.push_back(point_of<TriangleMesh>(vpm, v));
+    if (halfedge(v, tm) != GT::null_halfedge()) on_faces.push_back(v);
+  std::vector<Point_3> points, network_points;
+  for (auto v : on_faces) points.push_back(point_of<TriangleMesh>(vpm, v));
   for (std::size_t k = 0; k < network.number_of_vertices(); ++k) network_points.push_back(network.point(k));
   std::vector<std::pair<Point_3, Point_3>> fixed;
   for (const Correspondence& c : pairs)
     fixed.emplace_back(point_of<TriangleMesh>(vpm, vertex[c.template_vertex]), network.point(c.network_vertex));
-  const std::optional<Quadratic_warp> warp = register_quadratic_warp(on_faces, network_points, fixed, &report);
+  const std::optional<Quadratic_warp> warp = register_quadratic_warp(points, network_points, fixed, &report);
   if (!warp) return false;
   using P = typename boost::property_traits<decltype(vpm)>::value_type;
-  for (auto v : vertex)
-    if (halfedge(v, tm) != boost::graph_traits<TriangleMesh>::null_halfedge()) {
-      const Point_3 q = (*warp)(point_of<TriangleMesh>(vpm, v));
-      put(vpm, v, P(q.x(), q.y(), q.z()));
-    }
+  for (std::size_t i = 0; i < on_faces.size(); ++i) {
+    const Point_3 q = (*warp)(points[i]);
+    put(vpm, on_faces[i], P(q.x(), q.y(), q.z()));
+  }
   return true;
 }
 
