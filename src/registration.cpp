@@ -1,11 +1,21 @@
 // register_quadratic_warp (registration.h): Coherent Point Drift with a quadratic warp.
 #include <meshfit/registration.h>
 
+#include <meshfit/exceptions.h>
+
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
+#include <CGAL/Orthogonal_k_neighbor_search.h>
+#include <CGAL/Search_traits_3.h>
+#include <CGAL/Search_traits_adapter.h>
+#include <CGAL/property_map.h>
 #include <Eigen/Dense>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
 
 namespace meshfit {
 namespace {
@@ -63,78 +73,58 @@ double Quadratic_warp::jacobian_determinant(const Point_3& p) const {
   return J.determinant();
 }
 
-std::optional<Quadratic_warp> register_quadratic_warp(const std::vector<Point_3>& template_points,
-                                                      const std::vector<Point_3>& network_points,
-                                                      const std::vector<std::pair<Point_3, Point_3>>& pairs,
-                                                      Registration_report* report) {
-  if (template_points.size() < 4 || network_points.size() < 4 || pairs.empty()) return std::nullopt;
-  // The frame: the template's centroid and RMS radius, so that a rigid motion or a uniform
-  // scaling of the template gives the same warp, moved with it.
-  Eigen::Vector3d c = Eigen::Vector3d::Zero();
-  for (const Point_3& p : template_points) c += eigen_point(p);
-  c /= static_cast<double>(template_points.size());
-  double s2 = 0;
-  for (const Point_3& p : template_points) s2 += (eigen_point(p) - c).squaredNorm();
-  const double s = std::sqrt(s2 / static_cast<double>(template_points.size()));
-  if (!(s > 0) || !std::isfinite(s)) return std::nullopt;
+namespace {
 
-  const std::vector<Eigen::Vector3d> X = every_kth_point(template_points, 3000), Q = every_kth_point(network_points, 3000);
-  const std::size_t M = X.size(), N = Q.size();
-  // The network's RMS radius: the unit of the mixture's variance and of its uniform term (the
-  // template and the network may be in units of their own until the affine start).
-  Eigen::Vector3d cq = Eigen::Vector3d::Zero();
-  for (const Eigen::Vector3d& q : Q) cq += q;
-  cq /= static_cast<double>(N);
+using Penalty = Eigen::Matrix<double, warp_monomials, warp_monomials>;
+
+// What the fits share: the template's frame (its centroid c and RMS radius s), the network's RMS
+// radius sq (the unit of distances), the pairs' monomials and offsets, the penalty on the
+// quadratic part (its mean square over the template's points, a measure that does not depend on
+// the frame's axes) and the start, the affine map through the pairs (least squares; the smallest
+// solution when the pairs leave it undetermined).
+struct Fit_setup {
+  Eigen::Vector3d c;
+  double s = 0;
   double sq = 0;
-  for (const Eigen::Vector3d& q : Q) sq += (q - cq).squaredNorm();
-  sq = std::sqrt(sq / static_cast<double>(N));
-  if (!(sq > 0)) return std::nullopt;
-  std::vector<Warp_basis> B(M);
-  for (std::size_t m = 0; m < M; ++m) B[m] = warp_basis((X[m] - c) / s);
+  std::vector<Eigen::Vector3d> network;  // at most 3000
   std::vector<Warp_basis> Bp;
   std::vector<Eigen::Vector3d> pair_offset;
-  for (const auto& [from, to] : pairs) {
-    Bp.push_back(warp_basis((eigen_point(from) - c) / s));
-    pair_offset.push_back(eigen_point(to) - eigen_point(from));
-  }
-  // The penalty on the quadratic part: its mean square over the template's points, a measure
-  // that does not depend on the frame's axes.
-  Eigen::Matrix<double, warp_monomials, warp_monomials> penalty = Eigen::Matrix<double, warp_monomials, warp_monomials>::Zero();
-  for (const Warp_basis& b : B) penalty.bottomRightCorner<6, 6>() += b.tail<6>() * b.tail<6>().transpose();
-  penalty /= static_cast<double>(M);
+  Penalty penalty = Penalty::Zero();
+  Warp_coefficients start = Warp_coefficients::Zero();
 
-  // The start: the affine map through the pairs (least squares; the smallest solution when the
-  // pairs leave it undetermined).
-  Warp_coefficients C = Warp_coefficients::Zero();
-  {
-    Eigen::MatrixXd A(Bp.size(), 4), R(Bp.size(), 3);
-    for (std::size_t k = 0; k < Bp.size(); ++k) A.row(k) = Bp[k].head<4>().transpose(), R.row(k) = pair_offset[k].transpose();
-    C.topRows<4>() = A.completeOrthogonalDecomposition().solve(R);
-  }
+  Warp_basis basis(const Eigen::Vector3d& x) const { return warp_basis((x - c) / s); }
+};
+
+Quadratic_warp warp_of(const Fit_setup& f, const Warp_coefficients& C) {
+  Quadratic_warp W;
+  W.centre = Point_3(f.c(0), f.c(1), f.c(2));
+  W.scale = f.s;
+  for (std::size_t m = 0; m < warp_monomials; ++m)
+    for (int d = 0; d < 3; ++d) W.coefficients[m][d] = C(m, d);
+  return W;
+}
+
+// Coherent Point Drift from f.start on X (at most 3000 template points); the EM iterations and
+// the mixture's final standard deviation (over sq) go to r.
+Warp_coefficients coherent_point_drift(const Fit_setup& f, const std::vector<Eigen::Vector3d>& X, Registration_report& r) {
+  const std::vector<Eigen::Vector3d>& Q = f.network;
+  const std::size_t M = X.size(), N = Q.size();
+  const double sq = f.sq;
+  std::vector<Warp_basis> B(M);
+  for (std::size_t m = 0; m < M; ++m) B[m] = f.basis(X[m]);
+  Warp_coefficients C = f.start;
   std::vector<Eigen::Vector3d> Y(M);
   auto warp_points = [&] {
     for (std::size_t m = 0; m < M; ++m) Y[m] = X[m] + C.transpose() * B[m];
   };
-  // Each network point's squared distance to its nearest warped template point, and their
-  // roots' mean over the network's RMS radius.
-  auto nearest_squared = [&] {
-    std::vector<double> d(N, std::numeric_limits<double>::infinity());
-    for (std::size_t n = 0; n < N; ++n)
-      for (const Eigen::Vector3d& y : Y) d[n] = std::min(d[n], (Q[n] - y).squaredNorm());
-    return d;
-  };
-  auto mean_distance = [&](const std::vector<double>& d2) {
-    double sum = 0;
-    for (double d : d2) sum += std::sqrt(d);
-    return sum / static_cast<double>(N) / sq;
-  };
   warp_points();
-  Registration_report r;
-  const std::vector<double> start = nearest_squared();
-  r.mean_distance_before = mean_distance(start);
   // The mixture's variance starts at four times the mean squared gap.
   double sigma2 = 0;
-  for (double d : start) sigma2 += d;
+  for (const Eigen::Vector3d& q : Q) {
+    double d = std::numeric_limits<double>::infinity();
+    for (const Eigen::Vector3d& y : Y) d = std::min(d, (q - y).squaredNorm());
+    sigma2 += d;
+  }
   sigma2 = 4 * sigma2 / static_cast<double>(N);
   const double sigma2_floor = 1e-10 * sq * sq;
   sigma2 = std::max(sigma2, sigma2_floor);
@@ -206,16 +196,16 @@ std::optional<Quadratic_warp> register_quadratic_warp(const std::vector<Point_3>
     }
     if (!(np > 0)) break;
     // M step: C by weighted least squares, the pairs weighing as much as all points together.
-    const double w = np / static_cast<double>(Bp.size());
-    Eigen::Matrix<double, warp_monomials, warp_monomials> A = lambda * np * penalty;
+    const double w = np / static_cast<double>(f.Bp.size());
+    Eigen::Matrix<double, warp_monomials, warp_monomials> A = lambda * np * f.penalty;
     Warp_coefficients rhs = Warp_coefficients::Zero();
     for (std::size_t m = 0; m < M; ++m) {
       A += P1[m] * B[m] * B[m].transpose();
       rhs += B[m] * (PX[m] - P1[m] * X[m]).transpose();
     }
-    for (std::size_t k = 0; k < Bp.size(); ++k) {
-      A += w * Bp[k] * Bp[k].transpose();
-      rhs += w * Bp[k] * pair_offset[k].transpose();
+    for (std::size_t k = 0; k < f.Bp.size(); ++k) {
+      A += w * f.Bp[k] * f.Bp[k].transpose();
+      rhs += w * f.Bp[k] * f.pair_offset[k].transpose();
     }
     const Warp_coefficients next = A.ldlt().solve(rhs);
     if (!next.allFinite()) break;
@@ -232,17 +222,256 @@ std::optional<Quadratic_warp> register_quadratic_warp(const std::vector<Point_3>
   }
   r.iterations = std::min(r.iterations, most_iterations);  // the loop's count, not one past it
   r.final_sigma = std::sqrt(sigma2) / sq;
-  r.mean_distance_after = mean_distance(nearest_squared());
-  Quadratic_warp W;
-  W.centre = Point_3(c(0), c(1), c(2));
-  W.scale = s;
-  for (std::size_t m = 0; m < warp_monomials; ++m)
-    for (int d = 0; d < 3; ++d) W.coefficients[m][d] = C(m, d);
-  r.turns_over = std::any_of(template_points.begin(), template_points.end(),
-                             [&](const Point_3& p) { return !(W.jacobian_determinant(p) > 0); });
+  return C;
+}
+
+// Point-to-plane closest-point matching (ICP) from f.start: each network point is matched with
+// the warped template point nearest to it, and the warp is fitted so that the network point lies
+// in the tangent plane there (the template's normal carried by the warp's Jacobian: cofactor
+// times normal), with a small pull towards the point itself (α, falling from 0.3 to 0.01) and the
+// pairs weighing `pair_weight` times all matches together; the quadratic part is penalised with
+// a weight that falls from 1 to 1e-3 over the iterations. With `reject`, matches farther than
+// three times the median are left out. X: at most 20000 template points, `normals` their unit
+// normals on the template.
+Warp_coefficients closest_point_fit(const Fit_setup& f, const std::vector<Eigen::Vector3d>& X,
+                                    const std::vector<Eigen::Vector3d>& normals, double pair_weight, bool reject,
+                                    std::size_t& iterations) {
+  using Base_traits = CGAL::Search_traits_3<Kernel>;
+  using Point_map = CGAL::Pointer_property_map<Point_3>::type;
+  using Traits = CGAL::Search_traits_adapter<std::size_t, Point_map, Base_traits>;
+  using Search = CGAL::Orthogonal_k_neighbor_search<Traits>;
+  using Tree = Search::Tree;
+  const std::vector<Eigen::Vector3d>& Q = f.network;
+  const std::size_t M = X.size(), N = Q.size();
+  std::vector<Warp_basis> B(M);
+  for (std::size_t m = 0; m < M; ++m) B[m] = f.basis(X[m]);
+  std::vector<std::size_t> index(M);
+  for (std::size_t m = 0; m < M; ++m) index[m] = m;
+  Warp_coefficients C = f.start;
+  std::vector<Point_3> Y(M);
+  std::vector<std::size_t> match(N);
+  std::vector<double> gap(N);
+  using Normal_matrix = Eigen::Matrix<double, 3 * warp_monomials, 3 * warp_monomials>;
+  using Normal_vector = Eigen::Matrix<double, 3 * warp_monomials, 1>;
+  constexpr std::size_t most_iterations = 150;
+  for (iterations = 1; iterations <= most_iterations; ++iterations) {
+    for (std::size_t m = 0; m < M; ++m) {
+      const Eigen::Vector3d y = X[m] + C.transpose() * B[m];
+      Y[m] = Point_3(y(0), y(1), y(2));
+    }
+    const Point_map point_map(Y.data());
+    Tree tree(index.begin(), index.end(), Tree::Splitter(), Traits(point_map));
+    tree.build();
+    const Search::Distance distance(point_map);
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t n = 0; n < static_cast<std::ptrdiff_t>(N); ++n) {
+      const Eigen::Vector3d& q = Q[static_cast<std::size_t>(n)];
+      const Search search(tree, Point_3(q(0), q(1), q(2)), 1, 0, true, distance);
+      match[static_cast<std::size_t>(n)] = search.begin()->first;
+      gap[static_cast<std::size_t>(n)] = search.begin()->second;
+    }
+    double limit = std::numeric_limits<double>::infinity();
+    if (reject) {
+      std::vector<double> sorted = gap;
+      std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(N / 2), sorted.end());
+      limit = 9 * sorted[N / 2];  // squared distances: three times the median distance
+    }
+    const double k = static_cast<double>(iterations - 1);
+    const double alpha = std::max(0.3 * std::pow(0.85, k), 0.01), lambda = std::max(std::pow(0.9, k), 1e-3);
+    Normal_matrix A = Normal_matrix::Zero();
+    Normal_vector rhs = Normal_vector::Zero();
+    std::size_t kept = 0;
+    for (std::size_t n = 0; n < N; ++n) {
+      if (!(gap[n] <= limit)) continue;
+      const std::size_t m = match[n];
+      // The normal carried by the warp: cof J n = det J J⁻ᵀ n.
+      const Eigen::Matrix<double, warp_monomials, 3> g = warp_basis_gradient((X[m] - f.c) / f.s);
+      const Eigen::Matrix3d J = Eigen::Matrix3d::Identity() + C.transpose() * g / f.s;
+      Eigen::Vector3d nm = J.determinant() * J.inverse().transpose() * normals[m];
+      const double length = nm.norm();
+      if (!(length > 0) || !std::isfinite(length)) continue;
+      nm /= length;
+      const Eigen::Vector3d offset = Q[n] - X[m];
+      Normal_vector a;
+      for (int d = 0; d < 3; ++d) a.segment<warp_monomials>(d * warp_monomials) = nm(d) * B[m];
+      A += a * a.transpose();
+      rhs += a * offset.dot(nm);
+      const Eigen::Matrix<double, warp_monomials, warp_monomials> bb = alpha * B[m] * B[m].transpose();
+      for (int d = 0; d < 3; ++d) {
+        A.block<warp_monomials, warp_monomials>(d * warp_monomials, d * warp_monomials) += bb;
+        rhs.segment<warp_monomials>(d * warp_monomials) += alpha * offset(d) * B[m];
+      }
+      ++kept;
+    }
+    if (kept == 0) break;
+    const double w = pair_weight * static_cast<double>(kept) / static_cast<double>(f.Bp.size());
+    for (int d = 0; d < 3; ++d) {
+      auto block = A.block<warp_monomials, warp_monomials>(d * warp_monomials, d * warp_monomials);
+      block += lambda * static_cast<double>(kept) * f.penalty;
+      for (std::size_t p = 0; p < f.Bp.size(); ++p) {
+        block += w * f.Bp[p] * f.Bp[p].transpose();
+        rhs.segment<warp_monomials>(d * warp_monomials) += w * f.pair_offset[p](d) * f.Bp[p];
+      }
+    }
+    const Normal_vector z = A.ldlt().solve(rhs);
+    if (!z.allFinite()) break;
+    Warp_coefficients next;
+    for (int d = 0; d < 3; ++d) next.col(d) = z.segment<warp_monomials>(d * warp_monomials);
+    const double change = (next - C).cwiseAbs().maxCoeff() / f.s;
+    C = next;
+    if (lambda <= 1e-3 && alpha <= 0.01 && change < 1e-10) break;
+  }
+  iterations = std::min(iterations, most_iterations);
+  return C;
+}
+
+// The mean distance of the network points to the template's triangles warped by W (to the
+// nearest warped point when there are no triangles), over the network's RMS radius.
+double mean_distance_after_warp(const Fit_setup& f, const std::vector<Point_3>& points,
+                                const std::vector<std::array<std::size_t, 3>>& triangles, const Quadratic_warp& W) {
+  std::vector<Point_3> moved(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) moved[i] = W(points[i]);
+  double sum = 0;
+  if (triangles.empty()) {
+    for (const Eigen::Vector3d& q : f.network) {
+      double d = std::numeric_limits<double>::infinity();
+      for (const Point_3& y : moved) d = std::min(d, (eigen_point(y) - q).squaredNorm());
+      sum += std::sqrt(d);
+    }
+  } else {
+    std::vector<Kernel::Triangle_3> soup;
+    for (const auto& t : triangles)
+      if (!CGAL::collinear(moved[t[0]], moved[t[1]], moved[t[2]])) soup.emplace_back(moved[t[0]], moved[t[1]], moved[t[2]]);
+    if (soup.empty()) return std::numeric_limits<double>::infinity();
+    using Primitive = CGAL::AABB_triangle_primitive<Kernel, std::vector<Kernel::Triangle_3>::const_iterator>;
+    CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>> tree(soup.begin(), soup.end());
+    tree.accelerate_distance_queries();
+    for (const Eigen::Vector3d& q : f.network) sum += std::sqrt(tree.squared_distance(Point_3(q(0), q(1), q(2))));
+  }
+  return sum / static_cast<double>(f.network.size()) / f.sq;
+}
+
+}  // namespace
+
+std::optional<Quadratic_warp> register_quadratic_warp(const std::vector<Point_3>& template_points,
+                                                      const std::vector<std::array<std::size_t, 3>>& triangles,
+                                                      const std::vector<Point_3>& network_points,
+                                                      const std::vector<std::pair<Point_3, Point_3>>& pairs,
+                                                      const std::vector<double>& pair_tolerances,
+                                                      Registration_report* report) {
+  if (template_points.size() < 4 || network_points.size() < 4 || pairs.empty()) return std::nullopt;
+  if (!pair_tolerances.empty() && pair_tolerances.size() != pairs.size())
+    throw Invalid_input("register_quadratic_warp: " + std::to_string(pair_tolerances.size()) + " pair tolerances for " +
+                        std::to_string(pairs.size()) + " pairs");
+  for (const auto& t : triangles)
+    for (std::size_t i : t)
+      if (i >= template_points.size()) throw Invalid_input("register_quadratic_warp: triangle corner " + std::to_string(i) + " is out of range (" +
+                            std::to_string(template_points.size()) + " template points)");
+  // The frame: the template's centroid and RMS radius, so that a rigid motion or a uniform
+  // scaling of the template gives the same warp, moved with it.
+  Fit_setup f;
+  f.c = Eigen::Vector3d::Zero();
+  for (const Point_3& p : template_points) f.c += eigen_point(p);
+  f.c /= static_cast<double>(template_points.size());
+  double s2 = 0;
+  for (const Point_3& p : template_points) s2 += (eigen_point(p) - f.c).squaredNorm();
+  f.s = std::sqrt(s2 / static_cast<double>(template_points.size()));
+  if (!(f.s > 0) || !std::isfinite(f.s)) return std::nullopt;
+  f.network = every_kth_point(network_points, 3000);
+  // The network's RMS radius: the unit of the mixture's variance and of the distances reported
+  // (the template and the network may be in units of their own until the affine start).
+  Eigen::Vector3d cq = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& q : f.network) cq += q;
+  cq /= static_cast<double>(f.network.size());
+  for (const Eigen::Vector3d& q : f.network) f.sq += (q - cq).squaredNorm();
+  f.sq = std::sqrt(f.sq / static_cast<double>(f.network.size()));
+  if (!(f.sq > 0)) return std::nullopt;
+  for (const auto& [from, to] : pairs) {
+    f.Bp.push_back(f.basis(eigen_point(from)));
+    f.pair_offset.push_back(eigen_point(to) - eigen_point(from));
+  }
+  const std::vector<Eigen::Vector3d> X = every_kth_point(template_points, 3000);
+  for (const Eigen::Vector3d& x : X) {
+    const Warp_basis b = f.basis(x);
+    f.penalty.bottomRightCorner<6, 6>() += b.tail<6>() * b.tail<6>().transpose();
+  }
+  f.penalty /= static_cast<double>(X.size());
+  {
+    Eigen::MatrixXd A(f.Bp.size(), 4), R(f.Bp.size(), 3);
+    for (std::size_t k = 0; k < f.Bp.size(); ++k) A.row(k) = f.Bp[k].head<4>().transpose(), R.row(k) = f.pair_offset[k].transpose();
+    f.start.topRows<4>() = A.completeOrthogonalDecomposition().solve(R);
+  }
+  auto turns_over = [&](const Quadratic_warp& W) {
+    return std::any_of(template_points.begin(), template_points.end(),
+                       [&](const Point_3& p) { return !(W.jacobian_determinant(p) > 0); });
+  };
+
+  // Whether W takes every pair's template point to within its tolerance of its network point,
+  // the tolerance scaled by W's local change of length there (the cube root of det ∂W/∂x).
+  auto keeps_pairs = [&](const Quadratic_warp& W) {
+    for (std::size_t k = 0; k < pair_tolerances.size(); ++k) {
+      const Point_3& p = pairs[k].first;
+      const double reach = pair_tolerances[k] * std::cbrt(W.jacobian_determinant(p));
+      if (!(std::sqrt(CGAL::squared_distance(W(p), pairs[k].second)) <= reach)) return false;
+    }
+    return true;
+  };
+
+  Registration_report r;
+  r.mean_distance_before = mean_distance_after_warp(f, template_points, triangles, warp_of(f, f.start));
+  std::optional<Quadratic_warp> best;
+  bool best_keeps_pairs = false;
+  auto consider = [&](const Warp_coefficients& C, Registration_method method, double pair_weight, bool reject) {
+    const Quadratic_warp W = warp_of(f, C);
+    ++r.candidates;
+    if (turns_over(W)) {
+      ++r.candidates_turning_over;
+      return;
+    }
+    const bool kept = keeps_pairs(W);
+    r.candidates_keeping_pairs += kept;
+    const double d = mean_distance_after_warp(f, template_points, triangles, W);
+    if (best && (best_keeps_pairs > kept || (best_keeps_pairs == kept && !(d < r.mean_distance_after)))) return;
+    best = W;
+    best_keeps_pairs = kept;
+    r.mean_distance_after = d;
+    r.method = method;
+    r.pair_weight = pair_weight;
+    r.far_matches_left_out = reject;
+  };
+  consider(coherent_point_drift(f, X, r), Registration_method::coherent_point_drift, 1, false);
+  // Closest-point fits need the template's normals: from its triangles (area-weighted).
+  if (!triangles.empty()) {
+    std::vector<Eigen::Vector3d> normal(template_points.size(), Eigen::Vector3d::Zero());
+    for (const auto& t : triangles) {
+      const Eigen::Vector3d a = eigen_point(template_points[t[0]]), b = eigen_point(template_points[t[1]]),
+                            c = eigen_point(template_points[t[2]]);
+      const Eigen::Vector3d n = (b - a).cross(c - a);
+      for (std::size_t i : t) normal[i] += n;
+    }
+    std::vector<Eigen::Vector3d> Xn, Nn;
+    std::vector<Point_3> with_normal;
+    for (std::size_t i = 0; i < template_points.size(); ++i)
+      if (normal[i].norm() > 0 && std::isfinite(normal[i].norm())) with_normal.push_back(template_points[i]), Nn.push_back(normal[i].normalized());
+    const std::size_t k = std::max<std::size_t>((with_normal.size() + 19999) / 20000, 1);
+    std::vector<Eigen::Vector3d> Xs, Ns;
+    for (std::size_t i = 0; i < with_normal.size(); i += k) Xs.push_back(eigen_point(with_normal[i])), Ns.push_back(Nn[i]);
+    if (Xs.size() >= 4) {
+      // Pairs as a user gives them (a template vertex near the curve point, not at its exact
+      // preimage) pull the warp off the curves when they weigh as much as all matches: weights
+      // from 1 down to 1/100 are tried, and every match kept or the far ones left out at weight 1.
+      const std::array<std::pair<double, bool>, 4> settings = {{{1, true}, {1, false}, {0.1, false}, {0.01, false}}};
+      for (const auto& [weight, reject] : settings) {
+        std::size_t iterations = 0;
+        const Warp_coefficients C = closest_point_fit(f, Xs, Ns, weight, reject, iterations);
+        r.closest_point_iterations += iterations;
+        consider(C, Registration_method::closest_point, weight, reject);
+      }
+    }
+  }
+  r.turns_over = !best;
   if (report) *report = r;
-  if (r.turns_over) return std::nullopt;
-  return W;
+  return best;
 }
 
 }  // namespace meshfit

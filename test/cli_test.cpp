@@ -423,11 +423,17 @@ TEST_CASE("cli: deform makes the second start from the registered template unles
       CHECK(fine["registration_iterations"].get<int>() > 0);
       CHECK(fine["registration_turns_over"] == false);
       CHECK(fine["registration_distance_after"].get<double>() < fine["registration_distance_before"].get<double>());
+      // The start kept is the third, from the Coherent Point Drift's warp (deform_test.cpp).
+      CHECK(fine["registration_candidates"] == 1);
+      CHECK(fine["registration_method"] == "coherent_point_drift");
+      CHECK(fine["registration_pair_weight"].get<double>() > 0);
     } else {
       CHECK(r.status == 3);  // a face still turned over
       CHECK(r.err.find("faces still turn over") != std::string::npos);
       CHECK(fine["registration_iterations"] == 0);
       CHECK(fine["registration_distance_before"].is_null());
+      CHECK(fine["registration_method"].is_null());
+      CHECK(fine["registration_candidates"] == 0);
     }
   }
 }

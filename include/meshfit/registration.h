@@ -12,6 +12,10 @@
 // the nearest parts. Unlike closest-point matching, a loop of the network that lies nearer the
 // wrong limb after the RBF through a few pairs is carried with the rest of the network.
 //
+// Closest-point fits (point-to-plane ICP) of the same warp are made beside it when the template's
+// triangles are given, and the warp whose surface lies nearest the network points is returned:
+// on the battery's six real-* cases the two kinds of fit each win on some (bench/battery).
+//
 // It is the coarse level's second start (deform_template): when the fine level leaves defects
 // after the RBF through the pairs alone, the template is warped first and the level runs again.
 #ifndef MESHFIT_REGISTRATION_H
@@ -39,28 +43,51 @@ struct Quadratic_warp {
   double jacobian_determinant(const Point_3& p) const;
 };
 
+/// Which fit gave the warp register_quadratic_warp returned.
+enum class Registration_method { coherent_point_drift, closest_point };
+
 /// What register_quadratic_warp did.
 struct Registration_report {
-  std::size_t iterations = 0;      ///< EM iterations
+  std::size_t iterations = 0;      ///< EM iterations of the Coherent Point Drift
   double final_sigma = 0;          ///< the mixture's standard deviation at the end, over the network points' RMS radius
-  /// Mean distance of the network points taking part to the nearest template point taking part,
-  /// over the network points' RMS radius: after the affine map through the pairs (the start) ...
+  std::size_t closest_point_iterations = 0;  ///< iterations of the closest-point fits, all together
+  std::size_t candidates = 0;      ///< warps fitted (the drift and each closest-point fit)
+  std::size_t candidates_turning_over = 0;  ///< of which turn space over at a template point (left out)
+  std::size_t candidates_keeping_pairs = 0;  ///< of which bring every pair within its tolerance
+  /// Mean distance of the network points taking part to the warped template (its triangles; its
+  /// nearest point when no triangles are given), over the network points' RMS radius: after the
+  /// affine map through the pairs (the start) ...
   double mean_distance_before = 0;
-  double mean_distance_after = 0;  ///< ... and after the warp
-  /// The warp found turns space over at a template point (det ∂W/∂x ≤ 0) and was not returned.
+  double mean_distance_after = 0;  ///< ... and after the warp returned
+  Registration_method method = Registration_method::coherent_point_drift;  ///< the fit returned
+  double pair_weight = 1;          ///< the pairs' weight, relative to all matches together, in that fit
+  bool far_matches_left_out = false;  ///< that fit left out matches beyond three times the median distance
+  /// Every warp found turns space over at a template point (det ∂W/∂x ≤ 0): none was returned.
   bool turns_over = false;
 };
 
 /// The quadratic warp that brings `template_points` (the template's vertices on faces) onto
-/// `network_points` by Coherent Point Drift, with W(pairs[k].first) = pairs[k].second asked with
-/// the weight of all network points together. At most 3000 points of each set take part (every
-/// k-th, in the given order). Starts from the affine map through the pairs (least squares).
-/// Returns nothing when the warp turns space over at one of `template_points` (det ∂W/∂x ≤ 0: a
-/// face there would turn over) or when the sets are too small to fit it (fewer than 4 points,
-/// or no pair).
+/// `network_points`. Coherent Point Drift asks W(pairs[k].first) = pairs[k].second with the weight
+/// of all network points together; at most 3000 points of each set take part (every k-th, in the
+/// given order). With `triangles` (corner indices into `template_points`), four closest-point fits
+/// are made as well (at most 20000 template points, normals from the triangles; pairs weighing 1,
+/// 1 with far matches left out, 0.1 and 0.01 times all matches), and of the warps that do not
+/// turn space over at any of `template_points` (det ∂W/∂x ≤ 0: a face there would turn over), the
+/// one whose warped triangles lie nearest the network points (mean distance) is returned,
+/// preferring those that bring every pair's template point within `pair_tolerances[k]` (in the
+/// template's units, times the warp's local change of length ∛det ∂W/∂x) of its network point:
+/// a user's pair names a template vertex near the curve point, not its exact preimage, and a fit
+/// that weighs the pairs little can slide the template along the curves (empty: no tolerance). Every
+/// fit starts from the affine map through the pairs (least squares). Returns nothing when every
+/// warp turns space over, or when the sets are too small to fit one (fewer than 4 points, or no
+/// pair).
+/// \throws Invalid_input when a triangle's corner is out of range, or `pair_tolerances` is neither
+///         empty nor one per pair.
 std::optional<Quadratic_warp> register_quadratic_warp(const std::vector<Point_3>& template_points,
+                                                      const std::vector<std::array<std::size_t, 3>>& triangles,
                                                       const std::vector<Point_3>& network_points,
                                                       const std::vector<std::pair<Point_3, Point_3>>& pairs,
+                                                      const std::vector<double>& pair_tolerances = {},
                                                       Registration_report* report = nullptr);
 
 }  // namespace meshfit

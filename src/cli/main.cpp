@@ -811,7 +811,16 @@ Json json_fine_level(const meshfit::Deformation_report& r) {
     j["registration_turns_over"] = r.registration.turns_over;
     const bool registered = r.registration.iterations > 0;
     j["registration_distance_before"] = registered ? number(r.registration.mean_distance_before) : Json(nullptr);
-    j["registration_distance_after"] = registered ? number(r.registration.mean_distance_after) : Json(nullptr);
+    const bool warped = registered && !r.registration.turns_over;
+    j["registration_distance_after"] = warped ? number(r.registration.mean_distance_after) : Json(nullptr);
+    j["registration_closest_point_iterations"] = r.registration.closest_point_iterations;
+    j["registration_candidates"] = r.registration.candidates;
+    j["registration_candidates_turning_over"] = r.registration.candidates_turning_over;
+    j["registration_candidates_keeping_pairs"] = r.registration.candidates_keeping_pairs;
+    j["registration_method"] =
+        !warped ? Json(nullptr)
+                : Json(r.registration.method == meshfit::Registration_method::closest_point ? "closest_point" : "coherent_point_drift");
+    j["registration_pair_weight"] = warped ? number(r.registration.pair_weight) : Json(nullptr);
   }
   j["coarse_affine_determinant"] = number(r.coarse_affine_determinant);
   return j;

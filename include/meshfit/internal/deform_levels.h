@@ -544,12 +544,14 @@ inline std::array<std::size_t, 3> fine_defects(const Deformation_report& r) {
   return {r.segments_not_embedded.size(), r.remaining_flips, r.remaining_folds};
 }
 
-/// Moves `tm`'s points by register_quadratic_warp onto the network (its vertices on faces, the
-/// user's pairs as constraints). False, `tm` unchanged, when no warp was found or it would turn
-/// space over at a vertex.
+/// Moves `tm`'s points by register_quadratic_warp onto the network (its vertices on faces and its
+/// faces, the user's pairs as constraints with their tolerances; `subdivisions`: how many times
+/// the template was subdivided since the user gave it). Without `closest_point`, the faces are
+/// not passed: the warp is the Coherent Point Drift's. False, `tm` unchanged, when no warp was
+/// found or it would turn space over at a vertex.
 template <typename TriangleMesh>
 bool register_template(TriangleMesh& tm, const Curve_network& network, const std::vector<Correspondence>& pairs,
-                       Registration_report& report) {
+                       std::size_t subdivisions, bool closest_point, Registration_report& report) {
   using GT = boost::graph_traits<TriangleMesh>;
   const auto vpm = get_property_map(CGAL::vertex_point, tm);
   const std::vector<typename GT::vertex_descriptor> vertex(vertices(tm).first, vertices(tm).second);
@@ -557,12 +559,37 @@ bool register_template(TriangleMesh& tm, const Curve_network& network, const std
   for (auto v : vertex)
     if (halfedge(v, tm) != GT::null_halfedge()) on_faces.push_back(v);
   std::vector<Point_3> points, network_points;
-  for (auto v : on_faces) points.push_back(point_of<TriangleMesh>(vpm, v));
+  auto index = get(CGAL::dynamic_vertex_property_t<std::size_t>(), tm);
+  for (auto v : on_faces) {
+    put(index, v, points.size());
+    points.push_back(point_of<TriangleMesh>(vpm, v));
+  }
+  std::vector<std::array<std::size_t, 3>> triangles;
+  if (closest_point)
+    for (auto f : faces(tm)) {
+      const auto h = halfedge(f, tm);
+      triangles.push_back({get(index, source(h, tm)), get(index, target(h, tm)), get(index, target(next(h, tm), tm))});
+    }
   for (std::size_t k = 0; k < network.number_of_vertices(); ++k) network_points.push_back(network.point(k));
   std::vector<std::pair<Point_3, Point_3>> fixed;
-  for (const Correspondence& c : pairs)
-    fixed.emplace_back(point_of<TriangleMesh>(vpm, vertex[c.template_vertex]), network.point(c.network_vertex));
-  const std::optional<Quadratic_warp> warp = register_quadratic_warp(points, network_points, fixed, &report);
+  // A pair's tolerance: the mean length of the template's edges at its vertex, as the user gave
+  // the template (each subdivision halved them).
+  std::vector<double> tolerance;
+  for (const Correspondence& c : pairs) {
+    const auto v = vertex[c.template_vertex];
+    const Point_3 p = point_of<TriangleMesh>(vpm, v);
+    fixed.emplace_back(p, network.point(c.network_vertex));
+    double length = 0;
+    std::size_t edges = 0;
+    if (halfedge(v, tm) != GT::null_halfedge())
+      for (auto h : CGAL::halfedges_around_target(halfedge(v, tm), tm)) {
+        length += std::sqrt(CGAL::squared_distance(p, point_of<TriangleMesh>(vpm, source(h, tm))));
+        ++edges;
+      }
+    tolerance.push_back(std::ldexp(length / static_cast<double>(std::max<std::size_t>(edges, 1)), static_cast<int>(subdivisions)));
+  }
+  const std::optional<Quadratic_warp> warp =
+      register_quadratic_warp(points, triangles, network_points, fixed, tolerance, &report);
   if (!warp) return false;
   using P = typename boost::property_traits<decltype(vpm)>::value_type;
   for (std::size_t i = 0; i < on_faces.size(); ++i) {
@@ -635,33 +662,43 @@ Deformation_report deform_template_unscaled(TriangleMesh& tm, const Curve_networ
   Deformation_report report = levels(tm);
   if (!second_start || report.orientation_reversed || fine_defects(report) == std::array<std::size_t, 3>{}) return report;
   // Defects left: a second start from the template warped onto the curves as a whole
-  // (register_template), which the RBF through the pairs then finishes; the result with fewer
-  // defects (fine_defects' order) is kept, the first on a tie.
-  const Mesh_snapshot first = Mesh_snapshot::of(tm, vpm);
-  second_start->restore(tm, vpm);
-  Registration_report registration;
-  auto keep_first = [&] {
-    first.restore(tm, vpm);
-    report.registration = registration;
-    return report;
-  };
-  if (!register_template(tm, network, pairs, registration)) return keep_first();
-  // A second start that cannot be made (a refusal of the fine level on this start) leaves the
-  // first result; a cancel ends the call.
-  Deformation_report second;
-  try {
-    second = levels(tm);
-  } catch (const Cancelled&) {
-    throw;
-  } catch (const Algorithm_failure&) {
-    return keep_first();
-  } catch (const Numerical_error&) {
-    return keep_first();
+  // (register_template), which the RBF through the pairs then finishes. When its warp came from a
+  // closest-point fit and the start still leaves defects, a third start from the Coherent Point
+  // Drift's warp (on ico2562-onto-pig, a sphere onto 3 sections of CGAL's pig, the drift's start
+  // is clean and the closest-point fit's is not). The result with the fewest defects
+  // (fine_defects' order) is kept, the earlier on a tie; its registration's figures are reported
+  // (the first registration's when the first start is kept).
+  Mesh_snapshot kept = Mesh_snapshot::of(tm, vpm);
+  for (const bool closest_point : {true, false}) {
+    second_start->restore(tm, vpm);
+    Registration_report registration;
+    const bool warped = register_template(tm, network, pairs, subdivisions, closest_point, registration);
+    if (closest_point) report.registration = registration;
+    if (!warped) break;
+    // A start that cannot be made (a refusal of the fine level on this start) leaves the kept
+    // result; a cancel ends the call.
+    Deformation_report next;
+    try {
+      next = levels(tm);
+    } catch (const Cancelled&) {
+      throw;
+    } catch (const Algorithm_failure&) {
+      continue;
+    } catch (const Numerical_error&) {
+      continue;
+    }
+    next.coarse_registered = true;
+    next.registration = registration;
+    if (!next.orientation_reversed && fine_defects(next) < fine_defects(report)) {
+      report = next;
+      kept = Mesh_snapshot::of(tm, vpm);
+    }
+    if (fine_defects(report) == std::array<std::size_t, 3>{} ||
+        registration.method == Registration_method::coherent_point_drift)
+      break;  // clean, or the drift's warp was the one used
   }
-  second.coarse_registered = true;
-  second.registration = registration;
-  if (second.orientation_reversed || fine_defects(second) >= fine_defects(report)) return keep_first();
-  return second;
+  kept.restore(tm, vpm);
+  return report;
 }
 
 /// deform_template on `tm` itself: the mesh changes as the work goes (a cancel or a failure leaves it
