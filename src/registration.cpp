@@ -1,4 +1,4 @@
-// register_quadratic_warp (registration.h): Coherent Point Drift with a quadratic warp.
+// register_quadratic_warp (registration.h): Coherent Point Drift and closest-point fits of a quadratic warp.
 #include <meshfit/registration.h>
 
 #include <meshfit/exceptions.h>
@@ -232,7 +232,8 @@ Warp_coefficients coherent_point_drift(const Fit_setup& f, const std::vector<Eig
 // pairs weighing `pair_weight` times all matches together; the quadratic part is penalised with
 // a weight that falls from 1 to 1e-3 over the iterations. With `reject`, matches farther than
 // three times the median are left out. X: at most 20000 template points, `normals` their unit
-// normals on the template.
+// normals on the template. At most 150 iterations; the fit ends earlier when, the weights at
+// their floors, an iteration matches and leaves out as the one before did.
 Warp_coefficients closest_point_fit(const Fit_setup& f, const std::vector<Eigen::Vector3d>& X,
                                     const std::vector<Eigen::Vector3d>& normals, double pair_weight, bool reject,
                                     std::size_t& iterations) {
@@ -249,8 +250,9 @@ Warp_coefficients closest_point_fit(const Fit_setup& f, const std::vector<Eigen:
   for (std::size_t m = 0; m < M; ++m) index[m] = m;
   Warp_coefficients C = f.start;
   std::vector<Point_3> Y(M);
-  std::vector<std::size_t> match(N);
+  std::vector<std::size_t> match(N), previous_match;
   std::vector<double> gap(N);
+  std::vector<bool> used(N), previous_used;
   using Normal_matrix = Eigen::Matrix<double, 3 * warp_monomials, 3 * warp_monomials>;
   using Normal_vector = Eigen::Matrix<double, 3 * warp_monomials, 1>;
   constexpr std::size_t most_iterations = 150;
@@ -282,6 +284,7 @@ Warp_coefficients closest_point_fit(const Fit_setup& f, const std::vector<Eigen:
     Normal_vector rhs = Normal_vector::Zero();
     std::size_t kept = 0;
     for (std::size_t n = 0; n < N; ++n) {
+      used[n] = false;
       if (!(gap[n] <= limit)) continue;
       const std::size_t m = match[n];
       // The normal carried by the warp: cof J n = det J J⁻ᵀ n.
@@ -301,6 +304,7 @@ Warp_coefficients closest_point_fit(const Fit_setup& f, const std::vector<Eigen:
         A.block<warp_monomials, warp_monomials>(d * warp_monomials, d * warp_monomials) += bb;
         rhs.segment<warp_monomials>(d * warp_monomials) += alpha * offset(d) * B[m];
       }
+      used[n] = true;
       ++kept;
     }
     if (kept == 0) break;
@@ -313,29 +317,33 @@ Warp_coefficients closest_point_fit(const Fit_setup& f, const std::vector<Eigen:
         rhs.segment<warp_monomials>(d * warp_monomials) += w * f.pair_offset[p](d) * f.Bp[p];
       }
     }
+    // Once the weights are at their floors, the same matches (and the same left out) give the
+    // same system but for the normals' turn with the warp: the fit has settled.
+    const bool floors = lambda <= 1e-3 && alpha <= 0.01;
+    if (floors && match == previous_match && used == previous_used) break;
+    previous_match = match;
+    previous_used = used;
     const Normal_vector z = A.ldlt().solve(rhs);
     if (!z.allFinite()) break;
-    Warp_coefficients next;
-    for (int d = 0; d < 3; ++d) next.col(d) = z.segment<warp_monomials>(d * warp_monomials);
-    const double change = (next - C).cwiseAbs().maxCoeff() / f.s;
-    C = next;
-    if (lambda <= 1e-3 && alpha <= 0.01 && change < 1e-10) break;
+    for (int d = 0; d < 3; ++d) C.col(d) = z.segment<warp_monomials>(d * warp_monomials);
   }
   iterations = std::min(iterations, most_iterations);
   return C;
 }
 
 // The mean distance of the network points to the template's triangles warped by W (to the
-// nearest warped point when there are no triangles), over the network's RMS radius.
+// nearest of at most 3000 warped points when there are no triangles), over the network's RMS
+// radius.
 double mean_distance_after_warp(const Fit_setup& f, const std::vector<Point_3>& points,
                                 const std::vector<std::array<std::size_t, 3>>& triangles, const Quadratic_warp& W) {
   std::vector<Point_3> moved(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) moved[i] = W(points[i]);
   double sum = 0;
   if (triangles.empty()) {
+    const std::vector<Eigen::Vector3d> sample = every_kth_point(moved, 3000);
     for (const Eigen::Vector3d& q : f.network) {
       double d = std::numeric_limits<double>::infinity();
-      for (const Point_3& y : moved) d = std::min(d, (eigen_point(y) - q).squaredNorm());
+      for (const Eigen::Vector3d& y : sample) d = std::min(d, (y - q).squaredNorm());
       sum += std::sqrt(d);
     }
   } else {
@@ -358,7 +366,9 @@ std::optional<Quadratic_warp> register_quadratic_warp(const std::vector<Point_3>
                                                       const std::vector<Point_3>& network_points,
                                                       const std::vector<std::pair<Point_3, Point_3>>& pairs,
                                                       const std::vector<double>& pair_tolerances,
-                                                      Registration_report* report) {
+                                                      Registration_report* report,
+                                                      std::optional<Quadratic_warp>* drift_warp) {
+  if (drift_warp) drift_warp->reset();
   if (template_points.size() < 4 || network_points.size() < 4 || pairs.empty()) return std::nullopt;
   if (!pair_tolerances.empty() && pair_tolerances.size() != pairs.size())
     throw Invalid_input("register_quadratic_warp: " + std::to_string(pair_tolerances.size()) + " pair tolerances for " +
@@ -401,6 +411,7 @@ std::optional<Quadratic_warp> register_quadratic_warp(const std::vector<Point_3>
     for (std::size_t k = 0; k < f.Bp.size(); ++k) A.row(k) = f.Bp[k].head<4>().transpose(), R.row(k) = f.pair_offset[k].transpose();
     f.start.topRows<4>() = A.completeOrthogonalDecomposition().solve(R);
   }
+  if (!f.start.allFinite()) return std::nullopt;  // a pair's point not finite
   auto turns_over = [&](const Quadratic_warp& W) {
     return std::any_of(template_points.begin(), template_points.end(),
                        [&](const Point_3& p) { return !(W.jacobian_determinant(p) > 0); });
@@ -440,6 +451,7 @@ std::optional<Quadratic_warp> register_quadratic_warp(const std::vector<Point_3>
     r.far_matches_left_out = reject;
   };
   consider(coherent_point_drift(f, X, r), Registration_method::coherent_point_drift, 1, false);
+  if (drift_warp) *drift_warp = best;
   // Closest-point fits need the template's normals: from its triangles (area-weighted).
   if (!triangles.empty()) {
     std::vector<Eigen::Vector3d> normal(template_points.size(), Eigen::Vector3d::Zero());

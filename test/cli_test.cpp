@@ -424,8 +424,11 @@ TEST_CASE("cli: deform makes the second start from the registered template unles
       CHECK(fine["registration_turns_over"] == false);
       CHECK(fine["registration_distance_after"].get<double>() < fine["registration_distance_before"].get<double>());
       // The start kept is the third, from the Coherent Point Drift's warp (deform_test.cpp).
-      CHECK(fine["registration_candidates"] == 1);
-      CHECK(fine["registration_method"] == "coherent_point_drift");
+      CHECK(fine["registered_start"] == 2);
+      CHECK(fine["registration_candidates"] == 5);
+      CHECK(fine["registration_closest_point_iterations"].get<int>() > 0);
+      CHECK(fine["registration_method"] == "closest_point");
+      CHECK(fine["registration_far_matches_left_out"].is_boolean());
       CHECK(fine["registration_pair_weight"].get<double>() > 0);
     } else {
       CHECK(r.status == 3);  // a face still turned over
@@ -434,6 +437,7 @@ TEST_CASE("cli: deform makes the second start from the registered template unles
       CHECK(fine["registration_distance_before"].is_null());
       CHECK(fine["registration_method"].is_null());
       CHECK(fine["registration_candidates"] == 0);
+      CHECK(fine["registered_start"] == 0);
     }
   }
 }

@@ -995,7 +995,9 @@ TEST_CASE("deform: when the fine level leaves defects, a second start from the r
   CHECK(without.remaining_flips > 0);
   REQUIRE(with.coarse_registered);
   CHECK(with.registration.iterations > 0);
-  CHECK(with.registration.method == meshfit::Registration_method::coherent_point_drift);
+  CHECK(with.registration.method == meshfit::Registration_method::closest_point);
+  CHECK(with.registered_start == 2);  // the third start, from the drift's warp
+  CHECK(with.registration.candidates == 5);
   CHECK(!with.registration.turns_over);
   CHECK(with.registration.mean_distance_after < with.registration.mean_distance_before);
   CHECK(with.segments_not_embedded.empty());

@@ -119,8 +119,11 @@ struct Deformation_report {
   bool orientation_reversed = false;
   std::size_t degenerate_faces_skipped = 0;  ///< zero-area faces before the fine motion: not judged
   /// Fine_level::surface: the kept result started from the template warped onto the curves as a
-  /// whole (register_quadratic_warp), the second start tried when the first left defects.
+  /// whole (register_quadratic_warp), the starts tried when the first left defects.
   bool coarse_registered = false;
+  /// Which: 1 from the warp register_quadratic_warp returned, 2 from the Coherent Point Drift's
+  /// when that was another (0: the first start, from the RBF through the pairs alone).
+  std::size_t registered_start = 0;
   /// That registration's figures, when it ran (iterations 0 when it did not).
   Registration_report registration;
   // fine level
@@ -612,10 +615,11 @@ Deformation_report deform_fine_on_surface(TriangleMesh& tm, const Curve_network&
 /// template's vertices keep their indices, the new ones come after them.
 /// When the surface fine level leaves defects (segments not embedded, faces turned over, folds),
 /// both levels run once more from the (subdivided) template warped onto the curves as a whole
-/// (register_quadratic_warp, registration.h; unless `coarse_registration(false)`), and the second
-/// result is kept when it has fewer defects, compared in that order (`coarse_registered`,
-/// `registration`); a warp that turns space over, or a second start the fine level refuses,
-/// leaves the first result.
+/// (register_quadratic_warp, registration.h; unless `coarse_registration(false)`), and once more
+/// from the Coherent Point Drift's warp when the warp used was a closest-point fit's and defects
+/// remain; a later result is kept when it has fewer defects than the one kept so far, compared in
+/// that order (`coarse_registered`, `registered_start`, `registration`); a warp that turns space
+/// over, or a start the fine level refuses, leaves the result kept so far.
 /// The report holds the figures of both. When the coarse level reverses the orientation (pairs
 /// that mirror the template), the fine level is not run: the report says so and the caller
 /// decides (the command line fails with exit status 3).

@@ -1,6 +1,7 @@
 // meshfit: a global registration of the template to the curves, by a quadratic warp of space
 // fitted with Coherent Point Drift (Myronenko and Song 2010, "Point set registration: coherent
-// point drift", IEEE TPAMI 32(12)), the user's pairs held as weighted constraints.
+// point drift", IEEE TPAMI 32(12)) and with point-to-plane closest-point fits, the user's pairs
+// held as weighted constraints.
 //
 // The warp is W(x) = x + Cᵀ b(u), u = (x − c) / s, where b(u) holds the ten monomials of degree
 // at most 2 of u (c the centroid of the template's points, s their RMS distance from it): an
@@ -17,7 +18,8 @@
 // on the battery's six real-* cases the two kinds of fit each win on some (bench/battery).
 //
 // It is the coarse level's second start (deform_template): when the fine level leaves defects
-// after the RBF through the pairs alone, the template is warped first and the level runs again.
+// after the RBF through the pairs alone, the template is warped first and the level runs again
+// (and a third time from the drift's warp, when the warp used was another and defects remain).
 #ifndef MESHFIT_REGISTRATION_H
 #define MESHFIT_REGISTRATION_H
 
@@ -51,9 +53,11 @@ struct Registration_report {
   std::size_t iterations = 0;      ///< EM iterations of the Coherent Point Drift
   double final_sigma = 0;          ///< the mixture's standard deviation at the end, over the network points' RMS radius
   std::size_t closest_point_iterations = 0;  ///< iterations of the closest-point fits, all together
-  std::size_t candidates = 0;      ///< warps fitted (the drift and each closest-point fit)
+  std::size_t candidates = 0;      ///< warps fitted: the drift, and the 4 closest-point fits when there are triangles
   std::size_t candidates_turning_over = 0;  ///< of which turn space over at a template point (left out)
-  std::size_t candidates_keeping_pairs = 0;  ///< of which bring every pair within its tolerance
+  /// of the others, those that bring every pair within its tolerance (all of them when no
+  /// tolerances are given)
+  std::size_t candidates_keeping_pairs = 0;
   /// Mean distance of the network points taking part to the warped template (its triangles; its
   /// nearest point when no triangles are given), over the network points' RMS radius: after the
   /// affine map through the pairs (the start) ...
@@ -70,7 +74,8 @@ struct Registration_report {
 /// `network_points`. Coherent Point Drift asks W(pairs[k].first) = pairs[k].second with the weight
 /// of all network points together; at most 3000 points of each set take part (every k-th, in the
 /// given order). With `triangles` (corner indices into `template_points`), four closest-point fits
-/// are made as well (at most 20000 template points, normals from the triangles; pairs weighing 1,
+/// are made as well when at least 4 points lie on a triangle (at most 20000 of them, normals from
+/// the triangles, each network point matched with the nearest; pairs weighing 1,
 /// 1 with far matches left out, 0.1 and 0.01 times all matches), and of the warps that do not
 /// turn space over at any of `template_points` (det ∂W/∂x ≤ 0: a face there would turn over), the
 /// one whose warped triangles lie nearest the network points (mean distance) is returned,
@@ -81,6 +86,8 @@ struct Registration_report {
 /// fit starts from the affine map through the pairs (least squares). Returns nothing when every
 /// warp turns space over, or when the sets are too small to fit one (fewer than 4 points, or no
 /// pair).
+/// `drift_warp`, when given, receives the Coherent Point Drift's warp (nothing when it turns space
+/// over), which a caller may try next when the warp returned does not serve.
 /// \throws Invalid_input when a triangle's corner is out of range, or `pair_tolerances` is neither
 ///         empty nor one per pair.
 std::optional<Quadratic_warp> register_quadratic_warp(const std::vector<Point_3>& template_points,
@@ -88,7 +95,8 @@ std::optional<Quadratic_warp> register_quadratic_warp(const std::vector<Point_3>
                                                       const std::vector<Point_3>& network_points,
                                                       const std::vector<std::pair<Point_3, Point_3>>& pairs,
                                                       const std::vector<double>& pair_tolerances = {},
-                                                      Registration_report* report = nullptr);
+                                                      Registration_report* report = nullptr,
+                                                      std::optional<Quadratic_warp>* drift_warp = nullptr);
 
 }  // namespace meshfit
 

@@ -109,8 +109,9 @@ const Option_spec option_specs[] = {
                           "metric: Laplacian editing) or auto (template, unless the curves are sampled more "
                           "densely than the template's edges: approach; approach also when every start "
                           "leaves defects with the template's bending)"},
-    {"--no-registration", nullptr, "no second start from the template warped onto the curves as a whole (a quadratic "
-                                   "map fitted by Coherent Point Drift) when the surface fine level leaves defects"},
+    {"--no-registration", nullptr, "no further starts from the template warped onto the curves as a whole (a quadratic "
+                                   "map fitted by closest-point fits and Coherent Point Drift) when the surface fine "
+                                   "level leaves defects"},
     {"--max-rounds", "N", "flip prevention (thesis) or untangling (surface) rounds at most"},
     {"--max-memory", "SIZE", "refuse (exit 3, with the estimate) work whose largest allocation, a dense RBF "
                              "system or reading an input (10 times its size), would exceed SIZE (2G, 512M; "
@@ -821,6 +822,8 @@ Json json_fine_level(const meshfit::Deformation_report& r) {
         !warped ? Json(nullptr)
                 : Json(r.registration.method == meshfit::Registration_method::closest_point ? "closest_point" : "coherent_point_drift");
     j["registration_pair_weight"] = warped ? number(r.registration.pair_weight) : Json(nullptr);
+    j["registration_far_matches_left_out"] = warped ? Json(r.registration.far_matches_left_out) : Json(nullptr);
+    j["registered_start"] = r.registered_start;
   }
   j["coarse_affine_determinant"] = number(r.coarse_affine_determinant);
   return j;

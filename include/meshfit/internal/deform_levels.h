@@ -25,6 +25,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -544,59 +546,69 @@ inline std::array<std::size_t, 3> fine_defects(const Deformation_report& r) {
   return {r.segments_not_embedded.size(), r.remaining_flips, r.remaining_folds};
 }
 
-/// Moves `tm`'s points by register_quadratic_warp onto the network (its vertices on faces and its
-/// faces, the user's pairs as constraints with their tolerances; `subdivisions`: how many times
-/// the template was subdivided since the user gave it). Without `closest_point`, the faces are
-/// not passed: the warp is the Coherent Point Drift's. False, `tm` unchanged, when no warp was
-/// found or it would turn space over at a vertex.
+/// The warps of `tm` onto the network that register_quadratic_warp offers (from its vertices on
+/// faces and its faces, the user's pairs as constraints with their tolerances; `subdivisions`: how
+/// many times the template was subdivided since the user gave it): the warp it returns, then the
+/// Coherent Point Drift's when that is another one. Empty when every warp turns space over.
 template <typename TriangleMesh>
-bool register_template(TriangleMesh& tm, const Curve_network& network, const std::vector<Correspondence>& pairs,
-                       std::size_t subdivisions, bool closest_point, Registration_report& report) {
+std::vector<Quadratic_warp> registered_warps(TriangleMesh& tm, const Curve_network& network,
+                                             const std::vector<Correspondence>& pairs, std::size_t subdivisions,
+                                             Registration_report& report) {
   using GT = boost::graph_traits<TriangleMesh>;
   const auto vpm = get_property_map(CGAL::vertex_point, tm);
   const std::vector<typename GT::vertex_descriptor> vertex(vertices(tm).first, vertices(tm).second);
-  std::vector<typename GT::vertex_descriptor> on_faces;
-  for (auto v : vertex)
-    if (halfedge(v, tm) != GT::null_halfedge()) on_faces.push_back(v);
   std::vector<Point_3> points, network_points;
   auto index = get(CGAL::dynamic_vertex_property_t<std::size_t>(), tm);
-  for (auto v : on_faces) {
-    put(index, v, points.size());
-    points.push_back(point_of<TriangleMesh>(vpm, v));
-  }
-  std::vector<std::array<std::size_t, 3>> triangles;
-  if (closest_point)
-    for (auto f : faces(tm)) {
-      const auto h = halfedge(f, tm);
-      triangles.push_back({get(index, source(h, tm)), get(index, target(h, tm)), get(index, target(next(h, tm), tm))});
+  for (auto v : vertex)
+    if (halfedge(v, tm) != GT::null_halfedge()) {
+      put(index, v, points.size());
+      points.push_back(point_of<TriangleMesh>(vpm, v));
     }
+  std::vector<std::array<std::size_t, 3>> triangles;
+  for (auto f : faces(tm)) {
+    const auto h = halfedge(f, tm);
+    triangles.push_back({get(index, source(h, tm)), get(index, target(h, tm)), get(index, target(next(h, tm), tm))});
+  }
   for (std::size_t k = 0; k < network.number_of_vertices(); ++k) network_points.push_back(network.point(k));
   std::vector<std::pair<Point_3, Point_3>> fixed;
   // A pair's tolerance: the mean length of the template's edges at its vertex, as the user gave
-  // the template (each subdivision halved them).
+  // the template (each subdivision halved them); none for a vertex on no face.
   std::vector<double> tolerance;
   for (const Correspondence& c : pairs) {
     const auto v = vertex[c.template_vertex];
     const Point_3 p = point_of<TriangleMesh>(vpm, v);
     fixed.emplace_back(p, network.point(c.network_vertex));
+    if (halfedge(v, tm) == GT::null_halfedge()) {
+      tolerance.push_back(std::numeric_limits<double>::infinity());
+      continue;
+    }
     double length = 0;
     std::size_t edges = 0;
-    if (halfedge(v, tm) != GT::null_halfedge())
-      for (auto h : CGAL::halfedges_around_target(halfedge(v, tm), tm)) {
-        length += std::sqrt(CGAL::squared_distance(p, point_of<TriangleMesh>(vpm, source(h, tm))));
-        ++edges;
-      }
-    tolerance.push_back(std::ldexp(length / static_cast<double>(std::max<std::size_t>(edges, 1)), static_cast<int>(subdivisions)));
+    for (auto h : CGAL::halfedges_around_target(halfedge(v, tm), tm)) {
+      length += std::sqrt(CGAL::squared_distance(p, point_of<TriangleMesh>(vpm, source(h, tm))));
+      ++edges;
+    }
+    tolerance.push_back(std::ldexp(length / static_cast<double>(edges), static_cast<int>(subdivisions)));
   }
-  const std::optional<Quadratic_warp> warp =
-      register_quadratic_warp(points, triangles, network_points, fixed, tolerance, &report);
-  if (!warp) return false;
+  std::optional<Quadratic_warp> drift;
+  std::vector<Quadratic_warp> warps;
+  if (const auto warp = register_quadratic_warp(points, triangles, network_points, fixed, tolerance, &report, &drift))
+    warps.push_back(*warp);
+  if (drift && report.method != Registration_method::coherent_point_drift) warps.push_back(*drift);
+  return warps;
+}
+
+/// Moves `tm`'s vertices that lie on a face by `warp`.
+template <typename TriangleMesh>
+void warp_template(TriangleMesh& tm, const Quadratic_warp& warp) {
+  using GT = boost::graph_traits<TriangleMesh>;
+  const auto vpm = get_property_map(CGAL::vertex_point, tm);
   using P = typename boost::property_traits<decltype(vpm)>::value_type;
-  for (std::size_t i = 0; i < on_faces.size(); ++i) {
-    const Point_3 q = (*warp)(points[i]);
-    put(vpm, on_faces[i], P(q.x(), q.y(), q.z()));
-  }
-  return true;
+  for (auto v : vertices(tm))
+    if (halfedge(v, tm) != GT::null_halfedge()) {
+      const Point_3 q = warp(point_of<TriangleMesh>(vpm, v));
+      put(vpm, v, P(q.x(), q.y(), q.z()));
+    }
 }
 
 /// deform_template on the inputs as they are.
@@ -662,19 +674,17 @@ Deformation_report deform_template_unscaled(TriangleMesh& tm, const Curve_networ
   Deformation_report report = levels(tm);
   if (!second_start || report.orientation_reversed || fine_defects(report) == std::array<std::size_t, 3>{}) return report;
   // Defects left: a second start from the template warped onto the curves as a whole
-  // (register_template), which the RBF through the pairs then finishes. When its warp came from a
-  // closest-point fit and the start still leaves defects, a third start from the Coherent Point
-  // Drift's warp (on ico2562-onto-pig, a sphere onto 3 sections of CGAL's pig, the drift's start
-  // is clean and the closest-point fit's is not). The result with the fewest defects
-  // (fine_defects' order) is kept, the earlier on a tie; its registration's figures are reported
-  // (the first registration's when the first start is kept).
+  // (registered_warps), which the RBF through the pairs then finishes; when that warp came from a
+  // closest-point fit and the start still leaves defects, a third from the Coherent Point Drift's
+  // warp (on ico2562-onto-pig, a sphere onto 3 sections of CGAL's pig, the drift's start is clean
+  // and the closest-point fit's is not). The result with the fewest defects (fine_defects' order)
+  // is kept, the earlier on a tie.
   Mesh_snapshot kept = Mesh_snapshot::of(tm, vpm);
-  for (const bool closest_point : {true, false}) {
-    second_start->restore(tm, vpm);
-    Registration_report registration;
-    const bool warped = register_template(tm, network, pairs, subdivisions, closest_point, registration);
-    if (closest_point) report.registration = registration;
-    if (!warped) break;
+  second_start->restore(tm, vpm);
+  const std::vector<Quadratic_warp> warps = registered_warps(tm, network, pairs, subdivisions, report.registration);
+  for (std::size_t k = 0; k < warps.size() && fine_defects(report) != std::array<std::size_t, 3>{}; ++k) {
+    if (k > 0) second_start->restore(tm, vpm);
+    warp_template(tm, warps[k]);
     // A start that cannot be made (a refusal of the fine level on this start) leaves the kept
     // result; a cancel ends the call.
     Deformation_report next;
@@ -687,15 +697,12 @@ Deformation_report deform_template_unscaled(TriangleMesh& tm, const Curve_networ
     } catch (const Numerical_error&) {
       continue;
     }
+    if (next.orientation_reversed || !(fine_defects(next) < fine_defects(report))) continue;
     next.coarse_registered = true;
-    next.registration = registration;
-    if (!next.orientation_reversed && fine_defects(next) < fine_defects(report)) {
-      report = next;
-      kept = Mesh_snapshot::of(tm, vpm);
-    }
-    if (fine_defects(report) == std::array<std::size_t, 3>{} ||
-        registration.method == Registration_method::coherent_point_drift)
-      break;  // clean, or the drift's warp was the one used
+    next.registered_start = k + 1;
+    next.registration = report.registration;
+    report = next;
+    kept = Mesh_snapshot::of(tm, vpm);
   }
   kept.restore(tm, vpm);
   return report;
