@@ -437,7 +437,17 @@
       const e1 = q + 2 * p * Math.cos(phi), e3 = q + 2 * p * Math.cos(phi + 2 * Math.PI / 3);
       e = [e1, 3 * q - e1 - e3, e3];
     }
-    return { centre: c, flatness: Math.sqrt(Math.max(0, e[2]) / (e[0] || 1)), thinness: Math.sqrt(Math.max(0, e[1]) / (e[0] || 1)) };
+    // meshfit's own test of nearly coplanar pairs (rbf.cpp, nearly_coplanar): the rows
+    // ((p - centroid) / bounding-box diagonal, 1), whose n x 4 matrix has the singular values
+    // sqrt(n) and those of the centred points (the column of ones is orthogonal to them); the
+    // smallest over the largest.
+    let lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
+    for (const p of points) for (let k = 0; k < 3; ++k) lo[k] = Math.min(lo[k], p[k]), hi[k] = Math.max(hi[k], p[k]);
+    const d2 = (hi[0] - lo[0]) ** 2 + (hi[1] - lo[1]) ** 2 + (hi[2] - lo[2]) ** 2;
+    const sv = [n, ...e.map((x) => Math.max(0, x) / (d2 || 1))];
+    const conditioning = Math.sqrt(Math.min(...sv) / Math.max(...sv));
+    return { centre: c, flatness: Math.sqrt(Math.max(0, e[2]) / (e[0] || 1)), thinness: Math.sqrt(Math.max(0, e[1]) / (e[0] || 1)),
+             conditioning: conditioning };
   }
   function det3(m) {
     return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
@@ -469,14 +479,21 @@
       if (s.thinness < flat) w.push('the pairs\' ' + side + ' vertices are collinear: meshfit fit refuses them');
     if (sp.thinness >= flat && sq.thinness >= flat) {
       const thickness = (s) => ' (thickness ' + s.flatness.toExponential(1) + ' of their extent)';
-      if (sq.flatness < flat && sp.flatness >= flat)
-        w.push('the pairs\' network vertices are coplanar' + thickness(sq) + ' but their template vertices are not: ' +
-               'meshfit fit refuses them (the template would be flattened); add a pair off that plane');
-      else if (sp.flatness < flat)
-        w.push('the pairs\' template vertices are coplanar' + thickness(sp) + (sq.flatness < flat ? ', and so are their network vertices' : '') +
+      // As meshfit judges them (correspondence.cpp): network points on one plane to rounding with
+      // template vertices not nearly coplanar (rbf_coplanarity_bound, 1e-2) are refused; template
+      // vertices nearly coplanar get auxiliary pairs.
+      const templateFlat = sp.conditioning < 1e-2, rounding = 1e-12;
+      if (sq.flatness < flat && !templateFlat)
+        w.push('the pairs\' network vertices are ' + (sq.flatness < rounding ? 'coplanar' : 'nearly coplanar') + thickness(sq) +
+               ' but their template vertices are not: ' +
+               (sq.flatness < rounding ? 'meshfit fit refuses them (the template would be flattened)'
+                                       : 'the coarse level will nearly flatten the template') + '; add a pair off that plane');
+      else if (templateFlat)
+        w.push('the pairs\' template vertices are ' + (sp.flatness < flat ? 'coplanar' : 'nearly coplanar') + thickness(sp) +
+               (sq.flatness < flat ? ', and so are their network vertices' : '') +
                ': meshfit adds auxiliary pairs off the plane; add a pair off it to decide the orientation yourself');
     }
-    if (n >= 4 && sp.flatness >= flat && sq.flatness >= flat) {
+    if (n >= 4 && sp.conditioning >= 1e-2 && sq.flatness >= flat) {
       const d = affineDeterminant(P, Q);
       api.determinant = d;
       if (d < 0) w.push('the pairs mirror the template: the best affine map from the template to the network has determinant ' +
