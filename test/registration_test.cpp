@@ -89,6 +89,20 @@ Point_3 affine_start(const Point_3& p) {
 }
 Errors affine_start_errors(const std::vector<Point_3>& points) { return errors(affine_start, points); }
 
+// The network points' mean distance to the unit sphere carried by `map`, the sphere sampled ten
+// times more densely than the template (20000 points).
+template <typename Map>
+double mean_gap(const Map& map, const std::vector<Point_3>& network) {
+  static const std::vector<Point_3> dense = sphere_points(20000);
+  double sum = 0;
+  for (const Point_3& q : network) {
+    double best = std::numeric_limits<double>::infinity();
+    for (const Point_3& p : dense) best = std::min(best, CGAL::squared_distance(q, map(p)));
+    sum += std::sqrt(best) / static_cast<double>(network.size());
+  }
+  return sum;
+}
+
 // A latitude-longitude sphere as a triangle mesh: `rings` circles of latitude strictly between
 // the poles, `around` points on each, shifted by half a step so that no point lies on the planes
 // x = 0 or y = 0 (the crossings ±x, ±y of the circles are no vertex), and the two poles.
@@ -140,17 +154,7 @@ TEST_CASE("registration: a quadratic warp of a sphere is recovered from three of
   CHECK(after.mean < 0.6 * start.mean);
   // What the curves do determine: the network points end near the warped sphere (sampled ten
   // times more densely than the template), much nearer than after the affine start.
-  const std::vector<Point_3> dense = sphere_points(20000);
-  auto mean_gap = [&](const auto& map) {
-    double sum = 0;
-    for (const Point_3& q : network) {
-      double best = std::numeric_limits<double>::infinity();
-      for (const Point_3& p : dense) best = std::min(best, CGAL::squared_distance(q, map(p)));
-      sum += std::sqrt(best) / static_cast<double>(network.size());
-    }
-    return sum;
-  };
-  const double gap_before = mean_gap(affine_start), gap_after = mean_gap(*warp);
+  const double gap_before = mean_gap(affine_start, network), gap_after = mean_gap(*warp, network);
   CHECK(gap_after < 0.4 * gap_before);
   CHECK(report.iterations > 1);
   CHECK(report.mean_distance_after < report.mean_distance_before);
@@ -257,17 +261,7 @@ TEST_CASE("registration: with the template's triangles, pairs at the template ve
   const Errors start = affine_start_errors(m.points), by_drift = errors(*drift_only, m.points), after = errors(*warp, m.points);
   // What the curves determine: the network points' mean distance to the warped sphere (sampled
   // ten times more densely than the template).
-  const std::vector<Point_3> dense = sphere_points(20000);
-  auto mean_gap = [&](const auto& map) {
-    double sum = 0;
-    for (const Point_3& q : network) {
-      double best = std::numeric_limits<double>::infinity();
-      for (const Point_3& p : dense) best = std::min(best, CGAL::squared_distance(q, map(p)));
-      sum += std::sqrt(best) / static_cast<double>(network.size());
-    }
-    return sum;
-  };
-  const double gap_drift = mean_gap(*drift_only), gap_after = mean_gap(*warp);
+  const double gap_drift = mean_gap(*drift_only, network), gap_after = mean_gap(*warp, network);
   INFO("affine start " << start.largest << " / " << start.mean << ", drift " << by_drift.largest << " / " << by_drift.mean
                        << ", returned " << after.largest << " / " << after.mean << "; gap: drift " << gap_drift
                        << ", returned " << gap_after);
