@@ -45,11 +45,13 @@ Eigen::Matrix<double, warp_monomials, 3> warp_basis_gradient(const Eigen::Vector
 
 Eigen::Vector3d eigen_point(const Point_3& p) { return {p.x(), p.y(), p.z()}; }
 
-// Every k-th point, k the smallest that leaves at most `most`.
+// The smallest k for which every k-th of n items leaves at most `most` (at least 1).
+std::size_t kth_stride(std::size_t n, std::size_t most) { return std::max<std::size_t>((n + most - 1) / most, 1); }
+
+// Every k-th point, k = kth_stride(points.size(), most).
 std::vector<Eigen::Vector3d> every_kth_point(const std::vector<Point_3>& points, std::size_t most) {
-  const std::size_t k = (points.size() + most - 1) / most;
   std::vector<Eigen::Vector3d> out;
-  for (std::size_t i = 0; i < points.size(); i += std::max<std::size_t>(k, 1)) out.push_back(eigen_point(points[i]));
+  for (std::size_t i = 0; i < points.size(); i += kth_stride(points.size(), most)) out.push_back(eigen_point(points[i]));
   return out;
 }
 
@@ -461,13 +463,13 @@ std::optional<Quadratic_warp> register_quadratic_warp(const std::vector<Point_3>
       const Eigen::Vector3d n = (b - a).cross(c - a);
       for (std::size_t i : t) normal[i] += n;
     }
-    std::vector<Eigen::Vector3d> Xn, Nn;
     std::vector<Point_3> with_normal;
+    std::vector<Eigen::Vector3d> Nn;
     for (std::size_t i = 0; i < template_points.size(); ++i)
       if (normal[i].norm() > 0 && std::isfinite(normal[i].norm())) with_normal.push_back(template_points[i]), Nn.push_back(normal[i].normalized());
-    const std::size_t k = std::max<std::size_t>((with_normal.size() + 19999) / 20000, 1);
-    std::vector<Eigen::Vector3d> Xs, Ns;
-    for (std::size_t i = 0; i < with_normal.size(); i += k) Xs.push_back(eigen_point(with_normal[i])), Ns.push_back(Nn[i]);
+    const std::vector<Eigen::Vector3d> Xs = every_kth_point(with_normal, 20000);
+    std::vector<Eigen::Vector3d> Ns;
+    for (std::size_t i = 0; i < with_normal.size(); i += kth_stride(with_normal.size(), 20000)) Ns.push_back(Nn[i]);
     if (Xs.size() >= 4) {
       // Pairs as a user gives them (a template vertex near the curve point, not at its exact
       // preimage) pull the warp off the curves when they weigh as much as all matches: weights
